@@ -1,0 +1,4 @@
+//! # nbv-scenes
+//!
+//! Scene files (TOML): the workspace, the robot, the sensors, the objects and obstacles on
+//! the table, the planner/NBV/registration parameters, the error model and the seed.
