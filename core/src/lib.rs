@@ -12,5 +12,6 @@
 //! - a pose `T_a_b` maps coordinates in frame `b` to frame `a`.
 
 pub mod cloud;
+pub mod kinematics;
 pub mod math;
 pub mod mesh;
