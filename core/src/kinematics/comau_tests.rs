@@ -696,6 +696,42 @@ fn sensor_frame_reachability() {
 }
 
 #[test]
+fn a_mounted_base_is_folded_into_the_chain() {
+    // The same arm on a pedestal: a `world` root with a fixed, yawed and raised base.
+    let mount = r#"<link name="world"/><joint name="world-base" type="fixed">
+        <origin xyz="0.3 -0.2 0.25" rpy="0 0 0.4"/><parent link="world"/>
+        <child link="base_link"/></joint>"#;
+    let text = asset_text().replacen(
+        "<material name=\"comau_blue\">",
+        &format!("{mount}<material name=\"comau_blue\">"),
+        1,
+    );
+    let r = Robot::from_urdf_str(&text).unwrap();
+    assert_eq!(r.base_frame(), "world");
+    assert_eq!(r.body_of("base_link").unwrap(), 0);
+    let offset = pose_from_xyz_rpy([0.3, -0.2, 0.25], [0.0, 0.0, 0.4]);
+    let q = Joints::new(0.5, 0.1, -1.1, -0.6, 0.9, 0.4);
+    let (dp, dr) = pose_err(
+        &r.fk(&q, "dinast").unwrap(),
+        &(offset * comau().fk(&q, "dinast").unwrap()),
+    );
+    assert!(dp < 1e-12 && dr < 1e-12);
+    let p = r.ik_parameters().unwrap();
+    // d1 is measured from the root origin: pedestal 0.25 + shoulder 0.45.
+    assert!((p.d1 - 0.70).abs() < 1e-12 && (p.a1 - 0.15).abs() < 1e-12);
+    let target = r.fk(&q, "dinast").unwrap();
+    let nearest = r.ik_nearest("dinast", &target, &Joints::zeros()).unwrap();
+    let (dp, dr) = pose_err(&r.fk(&nearest.joints, "dinast").unwrap(), &target);
+    assert!(dp < 1e-9 && dr < 1e-9);
+    assert!(
+        r.ik("dinast", &target)
+            .unwrap()
+            .iter()
+            .any(|s| same_mod_2pi(&s.joints, &q, 1e-9))
+    );
+}
+
+#[test]
 fn rounded_urdf_angles_are_polished_to_exact_solutions() {
     // π/2 written as 1.5708 (a common rounding) breaks the exact structure by 4e-6 rad.
     let text = asset_text().replace("1.5707963267948966", "1.5708");

@@ -18,8 +18,8 @@ pub struct IkSolution {
     pub singularity: Singularity,
 }
 
-/// The closed-form branch of a solution.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+/// The closed-form branch of a solution. Ordered shoulder, then elbow, then wrist.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub struct Branch {
     /// Side of the J1 axis the wrist centre is reached from.
     pub shoulder: Shoulder,
@@ -30,7 +30,7 @@ pub struct Branch {
 }
 
 /// Shoulder branch.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub enum Shoulder {
     /// The wrist centre lies on the side of the J1 axis towards which the shoulder offset
     /// points (the arm reaches forward).
@@ -40,7 +40,7 @@ pub enum Shoulder {
 }
 
 /// Elbow branch.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub enum Elbow {
     /// The elbow is on the side of the shoulder–wrist line it takes when the arm reaches
     /// forward with the elbow raised (the Comau's calibration pose is elbow-up).
@@ -50,7 +50,7 @@ pub enum Elbow {
 }
 
 /// Wrist branch.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub enum Wrist {
     /// J5 on the positive side of the configuration where J4 and J6 align (for the Comau:
     /// J5 ≥ 0).

@@ -218,7 +218,7 @@ impl Robot {
     }
 
     /// Every joint configuration within the limits that puts `frame` at `pose`: up to eight
-    /// branches (shoulder front/back × elbow up/down × wrist ±), in that order.
+    /// branches (shoulder front/back × elbow up/down × wrist ±), sorted in that order.
     ///
     /// For joints whose range exceeds 2π (J4, J6 of the Comau) the angle of each branch is
     /// the representative nearest the middle of the range. At an exact singularity the free
@@ -340,6 +340,7 @@ impl Robot {
                 });
             }
         }
+        out.sort_by_key(|s| s.branch);
         if out.is_empty() && not_converged > 0 {
             return Err(IkError::NotConverged {
                 solutions: not_converged,
