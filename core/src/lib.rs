@@ -15,3 +15,4 @@ pub mod cloud;
 pub mod kinematics;
 pub mod math;
 pub mod mesh;
+pub mod rig;

@@ -1,0 +1,21 @@
+//! The boundary between the pipeline and a rig: what the pipeline asks of an arm, a line
+//! scanner (mid range) and a depth camera (short range).
+//!
+//! The twin (`nbv-sim`) and the real drivers (`nbv-hw`) implement these traits; the
+//! pipeline is generic over them and never knows which one it drives.
+//!
+//! Time is the rig's own clock in seconds (simulated time in the twin, the host's
+//! monotonic clock on hardware); a scan line and the arm's joint samples share it, so the
+//! pipeline can stamp each line with the sensor pose at its time.
+
+mod arm;
+mod depth_camera;
+mod line_scanner;
+mod rig_error;
+mod truth;
+
+pub use arm::{Arm, JointPath, Motion, TimedJoints};
+pub use depth_camera::{DepthCamera, DepthCameraSpec, DepthFrame};
+pub use line_scanner::{LineScanner, LineScannerSpec, ScanLine};
+pub use rig_error::RigError;
+pub use truth::{TruthHit, TruthLabel};
