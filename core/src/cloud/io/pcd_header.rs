@@ -160,13 +160,27 @@ pub(crate) fn parse_pcd_header(bytes: &[u8]) -> Result<PcdHeader, CloudIoError> 
             ));
         };
         seen_keyword = true;
+        if key == "VERSION"
+            && !matches!(
+                args.first().map(String::as_str),
+                Some("0.7" | ".7" | "0.6" | ".6" | "0.5" | ".5")
+            )
+        {
+            return Err(CloudIoError::at(
+                Location::Line(n),
+                CloudIoErrorKind::Unsupported(format!(
+                    "PCD VERSION `{}` (0.5 to 0.7 are read)",
+                    excerpt(&args.join(" "))
+                )),
+            ));
+        }
         if entries[slot].is_some() {
             return Err(header_error(n, format!("second {key} line")));
         }
         entries[slot] = Some((n, args));
     };
     let [
-        version,
+        _version,
         fields,
         sizes,
         types,
@@ -177,18 +191,6 @@ pub(crate) fn parse_pcd_header(bytes: &[u8]) -> Result<PcdHeader, CloudIoError> 
         points,
     ] = entries;
 
-    if let Some((line, v)) = &version {
-        let ok = matches!(
-            v.first().map(String::as_str),
-            Some("0.7" | ".7" | "0.6" | ".6" | "0.5" | ".5")
-        );
-        if !ok {
-            return Err(CloudIoError::at(
-                Location::Line(*line),
-                CloudIoErrorKind::Unsupported(format!("PCD VERSION `{}`", excerpt(&v.join(" ")))),
-            ));
-        }
-    }
     let missing = |key: &str| header_error(data_line, format!("no {key} line before DATA"));
     let Some((_, names)) = fields.clone() else {
         return Err(missing("FIELDS"));
