@@ -204,11 +204,22 @@ fn pcd_binary_and_compressed_damage() {
             matches!(e.kind, K::Truncated { .. } | K::Compressed(_)),
             "{e}"
         );
+        // PCL pads binary files with zeros to the page size: accepted.
+        let mut padded = bytes.clone();
+        padded.resize(4096, 0);
+        let read = read_pcd(&padded[..], &ReadOptions::default()).unwrap();
+        assert_eq!(read.cloud, cloud);
+        // Anything else is a wrong count.
         let mut longer = bytes.clone();
-        longer.push(0);
-        assert!(
-            matches!(pcd_err(&longer).kind, K::TrailingData { .. }),
-            "{encoding:?}"
+        longer.extend_from_slice(&[0, 0, 7]);
+        let e = pcd_err(&longer);
+        assert!(matches!(e.kind, K::TrailingData { .. }), "{encoding:?}");
+        assert_eq!(
+            e.location,
+            Location::Byte {
+                offset: bytes.len() as u64 + 2,
+                record: None
+            }
         );
     }
 }

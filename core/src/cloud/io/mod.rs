@@ -15,6 +15,8 @@
 //!   are read and written. `TYPE`/`SIZE` I, U 1/2/4/8 and F 4/8, any `COUNT`; unknown
 //!   fields (`rgb`, `intensity`, `curvature`, `_` padding, histograms) are skipped by size.
 //!   Organised clouds (`HEIGHT` > 1) are read row-major; written clouds have `HEIGHT 1`.
+//!   Zero bytes after binary data are accepted (PCL pads its binary files to the page
+//!   size); anything else after the declared points is an error.
 //!
 //! # Columns and property names
 //! | column | written (PLY) | written (PCD) | also read |

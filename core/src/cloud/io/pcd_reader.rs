@@ -209,13 +209,16 @@ fn check_fits(
     Ok(needed as usize)
 }
 
-fn trailing(pos: usize, len: usize) -> Result<(), CloudIoError> {
-    if pos < len {
+/// Rejects data after the declared records, except zero bytes: PCL pads `binary` and
+/// `binary_compressed` files with zeros (to a multiple of the memory-map page size).
+fn trailing(bytes: &[u8], pos: usize) -> Result<(), CloudIoError> {
+    let rest = bytes.get(pos..).unwrap_or_default();
+    if let Some(k) = rest.iter().position(|&b| b != 0) {
         return Err(byte_error(
-            pos,
+            pos + k,
             None,
             CloudIoErrorKind::TrailingData {
-                detail: format!("{} bytes", len - pos),
+                detail: format!("{} non-zero bytes", rest.len() - k),
             },
         ));
     }
@@ -246,7 +249,7 @@ fn read_binary(
             .push(&rec)
             .map_err(|k| byte_error(pos + i * size, Some(i as u64), k))?;
     }
-    trailing(pos + needed, bytes.len())?;
+    trailing(bytes, pos + needed)?;
     Ok(builder.finish())
 }
 
@@ -315,7 +318,7 @@ fn read_compressed(
         lzf_decompress(&bytes[start..start + compressed], uncompressed)
             .map_err(|m| byte_error(start, None, CloudIoErrorKind::Compressed(m)))?
     };
-    trailing(start + compressed, bytes.len())?;
+    trailing(bytes, start + compressed)?;
     // Field-major layout: all points' values of field 0, then of field 1, ...
     let n = header.points as usize;
     let mut bases = Vec::with_capacity(header.fields.len());
