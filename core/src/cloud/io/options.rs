@@ -85,7 +85,8 @@ pub struct CloudFile {
     pub viewpoint: Option<Isometry3<f64>>,
     /// Points removed by [`NonFinite::Drop`].
     pub dropped_non_finite: usize,
-    /// Names of the fields or properties that were skipped because no column takes them
-    /// (colours, intensity, curvature, padding, ...), in file order.
+    /// Names of the point fields (PCD) or vertex properties (PLY) that were skipped because
+    /// no column takes them (colours, intensity, curvature, `_` padding, ...), in file
+    /// order. Other PLY elements (faces, PCL's `camera`) are skipped and not listed.
     pub ignored_fields: Vec<String>,
 }

@@ -97,7 +97,7 @@ fn is_identity(v: &Isometry3<f64>) -> bool {
     v.translation.vector == nalgebra::Vector3::zeros() && v.rotation.angle() < 1e-12
 }
 
-/// Fields with a role: (byte offset in an AoS record, type, record slot).
+/// Fields with a role: (byte offset in an AoS record, type, record slot, field index).
 fn mapped_fields(header: &PcdHeader, map: &FieldMap) -> Vec<(usize, ScalarType, usize, usize)> {
     let mut out = Vec::new();
     let mut offset = 0usize;
@@ -105,7 +105,10 @@ fn mapped_fields(header: &PcdHeader, map: &FieldMap) -> Vec<(usize, ScalarType, 
         if let Some(role) = role {
             out.push((offset, f.ty, role.index(), k));
         }
-        offset += f.ty.size() * f.count as usize;
+        offset = offset.saturating_add(
+            f.ty.size()
+                .saturating_mul(usize::try_from(f.count).unwrap_or(usize::MAX)),
+        );
     }
     out
 }
