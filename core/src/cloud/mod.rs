@@ -1,6 +1,17 @@
 //! Point clouds: the container shared by sensors, mapping and registration, and the
-//! processing steps of phase 1.
+//! processing steps of phase 1 (voxel downsampling, statistical outlier removal,
+//! dominant-plane extraction, Euclidean clustering).
 
+mod euclidean_cluster;
+mod outlier_filter;
+mod plane_ransac;
 mod point_cloud;
+mod processing_error;
+mod voxel_filter;
 
+pub use euclidean_cluster::{Cluster, EuclideanClustering};
+pub use outlier_filter::StatisticalOutlierFilter;
+pub use plane_ransac::{PlaneFit, PlaneRansac};
 pub use point_cloud::{CloudError, PointCloud};
+pub use processing_error::ProcessingError;
+pub use voxel_filter::VoxelFilter;
