@@ -97,7 +97,16 @@ fn benches(c: &mut Criterion) {
     };
     let (grid, up) = update(None);
     let reduced = ReducedMap::from_grid(&grid);
-    eprintln!("scan: {up:?}\nreduced map: {:?}", reduced.stats());
+    let crossings: usize = origins
+        .iter()
+        .zip(&points)
+        .map(|(o, p)| geometry.traverse_segment(o, p).unwrap().count())
+        .sum();
+    eprintln!(
+        "scan: {up:?}\nvoxel crossings: {crossings} ({:.1} per ray)\nreduced map: {:?}",
+        crossings as f64 / points.len() as f64,
+        reduced.stats()
+    );
 
     c.bench_function("grid_update/paper_55k_rays", |b| {
         b.iter(|| black_box(update(None)))

@@ -40,7 +40,8 @@ pub struct VoxelFilter {
 impl VoxelFilter {
     /// Downsamples `cloud`; errors on an empty or malformed cloud or a bad leaf size.
     pub fn filter(&self, cloud: &PointCloud) -> Result<PointCloud, ProcessingError> {
-        let groups = self.voxel_groups(cloud)?;
+        let (order, starts) = self.sorted_members(cloud)?;
+        let groups: Vec<&[usize]> = starts.windows(2).map(|w| &order[w[0]..w[1]]).collect();
         let mut representatives = Vec::with_capacity(groups.len());
         let mut centroids = Vec::with_capacity(groups.len());
         for members in &groups {
@@ -93,6 +94,19 @@ impl VoxelFilter {
     /// The input indices grouped by voxel: groups in ascending voxel-key order, indices
     /// ascending within a group.
     pub fn voxel_groups(&self, cloud: &PointCloud) -> Result<Vec<Vec<usize>>, ProcessingError> {
+        let (order, starts) = self.sorted_members(cloud)?;
+        Ok(starts
+            .windows(2)
+            .map(|w| order[w[0]..w[1]].to_vec())
+            .collect())
+    }
+
+    /// Point indices sorted by (voxel key, index), and the start of each voxel's run in
+    /// that order (with a final entry equal to the number of points).
+    fn sorted_members(
+        &self,
+        cloud: &PointCloud,
+    ) -> Result<(Vec<usize>, Vec<usize>), ProcessingError> {
         if !(self.leaf_size.is_finite() && self.leaf_size > 0.0) {
             return Err(ProcessingError::InvalidParameter {
                 name: "leaf_size",
@@ -120,16 +134,11 @@ impl VoxelFilter {
         }
         // (key, index) pairs are unique: the sort order is total and deterministic.
         keyed.sort_unstable();
-        let mut groups: Vec<Vec<usize>> = Vec::new();
-        let mut last_key = None;
-        for (key, index) in keyed {
-            match groups.last_mut() {
-                Some(group) if last_key == Some(key) => group.push(index),
-                _ => groups.push(vec![index]),
-            }
-            last_key = Some(key);
-        }
-        Ok(groups)
+        let mut starts: Vec<usize> = (0..keyed.len())
+            .filter(|&i| i == 0 || keyed[i].0 != keyed[i - 1].0)
+            .collect();
+        starts.push(keyed.len());
+        Ok((keyed.into_iter().map(|(_, i)| i).collect(), starts))
     }
 }
 

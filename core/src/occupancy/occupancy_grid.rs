@@ -159,6 +159,14 @@ impl OccupancyGrid {
         self.log_odds.get(linear).map(|&o| self.params.state(o))
     }
 
+    /// Linear indices (ascending) of the voxels in `state` — e.g. the occupied voxels to
+    /// compare with another mapper or to draw.
+    pub fn indices_in_state(&self, state: VoxelState) -> Vec<usize> {
+        (0..self.log_odds.len())
+            .filter(|&l| self.params.state(self.log_odds[l]) == state)
+            .collect()
+    }
+
     /// Voxels per state.
     pub fn state_counts(&self) -> StateCounts {
         let mut c = StateCounts::default();
@@ -407,6 +415,8 @@ mod tests {
         assert_eq!(grid.value([4, 0, 0]), Some(c.clamp_max));
         assert_eq!(grid.value([0, 0, 0]), Some(c.clamp_min));
         assert!((grid.probability([4, 0, 0]).unwrap() - 0.971).abs() < 1e-6);
+        assert_eq!(grid.indices_in_state(VoxelState::Occupied), vec![4]);
+        assert_eq!(grid.indices_in_state(VoxelState::Empty), vec![0, 1, 2, 3]);
         let counts = grid.state_counts();
         assert_eq!(
             (counts.occupied, counts.empty, counts.unknown),
@@ -477,6 +487,52 @@ mod tests {
         );
         // An empty scan is fine and changes nothing.
         assert_eq!(grid.insert_rays(&[], &[], 1.0).unwrap().rays, 0);
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn scan_sets_match_their_definition(
+            rays in proptest::collection::vec(
+                ((-1.0f64..3.0, -0.5f64..1.0, -0.5f64..1.0), (-0.5f64..2.5, -0.2f64..0.7, -0.2f64..0.7)),
+                1..40),
+            max_range in 0.5f64..4.0,
+        ) {
+            let grid = line_grid();
+            let g = *grid.geometry();
+            let origins: Vec<_> = rays.iter().map(|r| p(r.0.0, r.0.1, r.0.2)).collect();
+            let points: Vec<_> = rays.iter().map(|r| p(r.1.0, r.1.1, r.1.2)).collect();
+            let (voxels, update) = grid.scan_voxels(&origins, &points, max_range).unwrap();
+            let mut hits = std::collections::BTreeSet::new();
+            let mut crossed = std::collections::BTreeSet::new();
+            for (o, q) in origins.iter().zip(&points) {
+                let dist = (q - o).norm();
+                if let Some(v) = g.voxel_of(q).filter(|_| dist <= max_range) {
+                    hits.insert(g.linear(v).unwrap());
+                }
+                if dist > 0.0 {
+                    for c in g.traverse(o, &(q - o), dist.min(max_range)).unwrap() {
+                        crossed.insert(c.linear);
+                    }
+                }
+            }
+            let free: Vec<usize> = crossed.difference(&hits).copied().collect();
+            proptest::prop_assert_eq!(&voxels.occupied, &hits.into_iter().collect::<Vec<_>>());
+            proptest::prop_assert_eq!(&voxels.free, &free);
+            let mut applied = grid.clone();
+            let up = applied.insert_rays(&origins, &points, max_range).unwrap();
+            proptest::prop_assert_eq!(up, update);
+            let u = grid.params().hit_log_odds();
+            for (l, &o) in applied.log_odds().iter().enumerate() {
+                let expected = if voxels.occupied.binary_search(&l).is_ok() {
+                    u
+                } else if voxels.free.binary_search(&l).is_ok() {
+                    -u
+                } else {
+                    0.0
+                };
+                proptest::prop_assert_eq!(o, expected);
+            }
+        }
     }
 
     #[test]
