@@ -63,6 +63,17 @@ pub enum GridFileError {
 
 impl OccupancyGrid {
     /// Writes the grid in the binary format of the [`crate::occupancy`] module doc.
+    ///
+    /// ```
+    /// use nbv_core::occupancy::{GridGeometry, OccupancyGrid, OccupancyParams};
+    /// use nalgebra::Point3;
+    /// let g = GridGeometry::from_dims(Point3::origin(), 0.02, [4, 3, 2]).unwrap();
+    /// let grid = OccupancyGrid::new(g, OccupancyParams::default()).unwrap();
+    /// let mut bytes = Vec::new();
+    /// grid.write_to(&mut bytes).unwrap();
+    /// assert_eq!(bytes.len(), 80 + 4 * 24);
+    /// assert_eq!(OccupancyGrid::read_from(&bytes[..]).unwrap(), grid);
+    /// ```
     pub fn write_to(&self, mut w: impl Write) -> io::Result<()> {
         let g = self.geometry();
         let p = self.params();
