@@ -15,4 +15,5 @@ pub mod cloud;
 pub mod kinematics;
 pub mod math;
 pub mod mesh;
+pub mod occupancy;
 pub mod rig;

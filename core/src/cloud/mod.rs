@@ -1,8 +1,19 @@
 //! Point clouds: the container shared by sensors, mapping and registration, and the
-//! processing steps of phase 1.
+//! processing steps of phase 1 (voxel downsampling, statistical outlier removal,
+//! dominant-plane extraction, Euclidean clustering).
 
+mod euclidean_cluster;
 pub mod io;
+mod outlier_filter;
+mod plane_ransac;
 mod point_cloud;
+mod processing_error;
+mod voxel_filter;
 
+pub use euclidean_cluster::{Cluster, EuclideanClustering};
 pub use io::{CloudIoError, read_cloud, write_cloud};
+pub use outlier_filter::StatisticalOutlierFilter;
+pub use plane_ransac::{PlaneFit, PlaneRansac};
 pub use point_cloud::{CloudError, PointCloud};
+pub use processing_error::ProcessingError;
+pub use voxel_filter::VoxelFilter;
