@@ -20,6 +20,7 @@ use super::sdf::{
 };
 use nalgebra::{Point3, Vector3};
 use nbv_core::mesh::TriMesh;
+use nbv_core::mesh::io::{MeshIoError, write_stl_file};
 
 /// Triangle budget of an object mesh after simplification.
 const TARGET_TRIANGLES: usize = 16_000;
@@ -131,6 +132,18 @@ impl ObjectKind {
         }
         mesh
     }
+}
+
+/// Generates every library mesh and writes it to `dir/<name>.stl` (binary, atomic).
+/// Returns the written paths.
+pub fn write_library(dir: &std::path::Path) -> Result<Vec<std::path::PathBuf>, MeshIoError> {
+    ObjectKind::ALL
+        .iter()
+        .map(|kind| {
+            let path = dir.join(format!("{}.stl", kind.name()));
+            write_stl_file(&kind.mesh(), &path).map(|()| path)
+        })
+        .collect()
 }
 
 /// A signed-distance function and the corners of a box containing the solid.
