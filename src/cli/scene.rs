@@ -4,6 +4,7 @@
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use nbv_scenes::Scene;
+use nbv_scenes::generator::{GeneratorConfig, generate_with};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `nbv scene`.
@@ -41,6 +42,14 @@ enum SceneCommand {
         /// Output scene file (written atomically; mesh and URDF paths relative to it).
         #[arg(short, long)]
         output: PathBuf,
+        /// Robot URDF the scene refers to [default: assets/urdf/comau_smart_six.urdf of
+        /// this source tree].
+        #[arg(long)]
+        urdf: Option<PathBuf>,
+        /// Directory with the library meshes `<object>.stl` [default: assets/meshes of
+        /// this source tree].
+        #[arg(long)]
+        mesh_dir: Option<PathBuf>,
     },
     /// Generate the library's object meshes as binary STL files (`<name>.stl`).
     Meshes {
@@ -83,15 +92,30 @@ pub fn run(args: SceneArgs) -> Result<()> {
             seed,
             objects,
             output,
+            urdf,
+            mesh_dir,
         } => {
             let n = usize::try_from(objects).context("object count")?;
-            let scene = nbv_scenes::generator::generate(seed, n)
+            let mut config = GeneratorConfig::default();
+            let absolute = |p: PathBuf| std::path::absolute(&p).unwrap_or(p);
+            if let Some(urdf) = urdf {
+                config.urdf = absolute(urdf);
+            }
+            if let Some(dir) = mesh_dir {
+                config.mesh_dir = absolute(dir);
+            }
+            // The reachability filter accepts every pose until inverse kinematics is
+            // plugged in here.
+            let all = |_: &nbv_core::math::Pose| true;
+            let scene = generate_with(seed, n, &config, &all)
                 .with_context(|| format!("generating a scene with seed {seed}"))?;
+            // Validate before writing anything: no file unless it is a valid scene.
+            scene
+                .validate()
+                .with_context(|| format!("validating the generated scene (seed {seed})"))?;
             scene
                 .save(&output)
                 .with_context(|| format!("writing {}", output.display()))?;
-            // Re-load what was written: the file must validate on its own.
-            Scene::load(&output).with_context(|| format!("re-validating {}", output.display()))?;
             println!(
                 "wrote {} ({} objects)",
                 output.display(),
