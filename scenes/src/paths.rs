@@ -31,12 +31,14 @@ pub fn normalize(path: &Path) -> PathBuf {
 }
 
 /// `path` expressed relative to directory `dir` (both made absolute against the current
-/// directory first); `path` unchanged if that is impossible.
+/// directory first); the absolute path when they share no directory below the root.
 ///
 /// ```
 /// use nbv_scenes::paths::relative_to;
 /// let r = relative_to("/w/assets/meshes/jug.stl".as_ref(), "/w/scenes".as_ref());
 /// assert_eq!(r, std::path::PathBuf::from("../assets/meshes/jug.stl"));
+/// let a = relative_to("/w/assets/jug.stl".as_ref(), "/tmp/x".as_ref());
+/// assert_eq!(a, std::path::PathBuf::from("/w/assets/jug.stl"));
 /// ```
 pub fn relative_to(path: &Path, dir: &Path) -> PathBuf {
     let (Ok(p), Ok(d)) = (std::path::absolute(path), std::path::absolute(dir)) else {
@@ -46,7 +48,12 @@ pub fn relative_to(path: &Path, dir: &Path) -> PathBuf {
     let pc: Vec<Component<'_>> = p.components().collect();
     let dc: Vec<Component<'_>> = d.components().collect();
     let common = pc.iter().zip(&dc).take_while(|(a, b)| a == b).count();
-    if common == 0 {
+    // Sharing only the root (or a prefix): an absolute path reads better than `../../..`.
+    let shared_dirs = pc[..common]
+        .iter()
+        .filter(|c| matches!(c, Component::Normal(_)))
+        .count();
+    if shared_dirs == 0 {
         return p;
     }
     let mut out = PathBuf::new();
