@@ -3,6 +3,7 @@
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
+use nbv_core::kinematics::Robot;
 use nbv_scenes::Scene;
 use nbv_scenes::generator::{GeneratorConfig, generate_with};
 use std::path::{Path, PathBuf};
@@ -59,6 +60,17 @@ enum SceneCommand {
     },
 }
 
+/// "Can the arm put `frame` at this world pose?": closed-form IK of the frame through its
+/// fixed transform to the flange, for a robot mounted at `base`.
+fn sensor_reachability<'a>(
+    robot: &'a Robot,
+    base: nbv_core::math::Pose,
+    frame: &'a str,
+) -> impl Fn(&nbv_core::math::Pose) -> bool + 'a {
+    let base_inv = base.inverse();
+    move |pose| robot.reachable(frame, &(base_inv * pose)).unwrap_or(false)
+}
+
 /// Runs `nbv scene …`.
 pub fn run(args: SceneArgs) -> Result<()> {
     match args.command {
@@ -77,11 +89,29 @@ pub fn run(args: SceneArgs) -> Result<()> {
         }
         SceneCommand::Describe { scene } => {
             let s = load(&scene)?;
-            // The reachable-viewpoint column stays empty until inverse kinematics is
-            // plugged in here: `Some(&|pose| robot.ik(...).is_some())`.
-            let summary = nbv_scenes::describe::describe(&s, None)
+            let robot = Robot::from_urdf_file(&s.robot.urdf)
+                .with_context(|| format!("loading the robot of {scene}"))?;
+            let reach =
+                sensor_reachability(&robot, s.robot.base.to_pose(), &s.sensors.short_range.frame);
+            let summary = nbv_scenes::describe::describe(&s, Some(&reach))
                 .with_context(|| format!("describing {scene}"))?;
             print!("{}", summary.to_text(&s));
+            let world = nbv_sim::world::TwinWorld::from_scene(&s)
+                .with_context(|| format!("building the twin world of {scene}"))?;
+            let contacts = world.contacts();
+            if contacts.is_empty() {
+                println!(
+                    "home configuration {:?} deg: collision-free",
+                    s.robot.home_deg
+                );
+            } else {
+                let list: Vec<String> = contacts.iter().map(ToString::to_string).collect();
+                println!(
+                    "home configuration {:?} deg: IN COLLISION: {}",
+                    s.robot.home_deg,
+                    list.join("; ")
+                );
+            }
         }
         SceneCommand::List => {
             for name in nbv_scenes::builtin::names() {
@@ -104,10 +134,11 @@ pub fn run(args: SceneArgs) -> Result<()> {
             if let Some(dir) = mesh_dir {
                 config.mesh_dir = absolute(dir);
             }
-            // The reachability filter accepts every pose until inverse kinematics is
-            // plugged in here.
-            let all = |_: &nbv_core::math::Pose| true;
-            let scene = generate_with(seed, n, &config, &all)
+            // Objects are placed only where the short-range sensor has reachable viewpoints.
+            let robot = Robot::from_urdf_file(&config.urdf)
+                .with_context(|| format!("loading the robot {}", config.urdf.display()))?;
+            let reach = sensor_reachability(&robot, nbv_core::math::Pose::identity(), "dinast");
+            let scene = generate_with(seed, n, &config, &reach)
                 .with_context(|| format!("generating a scene with seed {seed}"))?;
             // Validate before writing anything: no file unless it is a valid scene.
             scene
