@@ -19,15 +19,15 @@ fn meshes() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/meshes")
 }
 
-/// A scene directory with a URDF file (validation only needs it to exist) and a scene
+fn real_urdf() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/urdf/comau_smart_six.urdf")
+}
+
+/// A scene directory with a copy of the robot's URDF and a scene
 /// referring to the repository's meshes.
 fn scene_dir(objects: &str, extra: &str) -> (tempfile::TempDir, PathBuf) {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(
-        dir.path().join("robot.urdf"),
-        "<robot name=\"r\"><link name=\"base\"/></robot>\n",
-    )
-    .unwrap();
+    std::fs::copy(real_urdf(), dir.path().join("robot.urdf")).unwrap();
     let m = meshes().display().to_string();
     let body = format!(
         r#"name = "cli-test"
@@ -157,7 +157,7 @@ fn syntax_error_and_missing_file() {
 fn generate_is_deterministic_valid_and_atomic() {
     let dir = tempfile::tempdir().unwrap();
     let urdf = dir.path().join("robot.urdf");
-    std::fs::write(&urdf, "<robot name=\"r\"><link name=\"base\"/></robot>\n").unwrap();
+    std::fs::copy(real_urdf(), &urdf).unwrap();
     let u = urdf.display().to_string();
     let gen_to = |name: &str, seed: &str| {
         let out_path = dir.path().join(name);
