@@ -14,3 +14,4 @@
 pub mod cloud;
 pub mod math;
 pub mod mesh;
+pub mod registration;
