@@ -49,6 +49,9 @@ pub enum RegistrationError {
         /// Number of points in the view.
         points: usize,
     },
+    /// All views together hold more points than can be numbered (u32).
+    #[error("the views hold {0} points in all, more than can be numbered")]
+    TooManyPointsInAll(usize),
     /// The k-d tree over a view could not be built.
     #[error("view {view}: k-d tree construction failed: {message}")]
     KdTree {

@@ -42,6 +42,8 @@ const CHUNK: usize = 512;
 /// The independent sets found at one set of poses, indexed per view.
 struct Correspondences {
     sets: IndependentSets,
+    /// (view, local point index) of every entry of `sets.members()`.
+    locals: Vec<(u32, u32)>,
     /// Per view: (local point index, set index) of its set members, in set order.
     members_of: Vec<Vec<(u32, u32)>>,
 }
@@ -71,7 +73,7 @@ pub(crate) fn run(
         if corr.sets.is_empty() {
             break (corr, None, StopReason::NoCorrespondences);
         }
-        let (centroids, mse) = centroids(&trees, &layout, &corr.sets, &poses);
+        let (centroids, mse) = centroids(&trees, &corr, &poses);
         history.push(mse);
         if settled(&history, params.tolerance) {
             break (corr, Some(mse), StopReason::Converged);
@@ -79,8 +81,7 @@ pub(crate) fn run(
         if iterations == params.max_iterations {
             break (corr, Some(mse), StopReason::MaxIterations);
         }
-        let Some(inner) = consensus(&trees, &layout, &corr, centroids, mse, &mut poses, params)
-        else {
+        let Some(inner) = consensus(&trees, &corr, centroids, mse, &mut poses, params) else {
             break (corr, Some(mse), StopReason::Degenerate);
         };
         inner_iterations += inner;
@@ -102,12 +103,17 @@ pub(crate) fn run(
         unconnected_views,
     };
     // Gauge: the reference view keeps its initial pose (exactly), the others follow it.
-    let gauge = anchor * poses[reference].inverse();
-    let poses = poses
-        .iter()
-        .enumerate()
-        .map(|(v, p)| if v == reference { anchor } else { gauge * p })
-        .collect();
+    // Without any update the initial poses come back untouched.
+    let poses = if iterations == 0 {
+        initial.to_vec()
+    } else {
+        let gauge = anchor * poses[reference].inverse();
+        poses
+            .iter()
+            .enumerate()
+            .map(|(v, p)| if v == reference { anchor } else { gauge * p })
+            .collect()
+    };
     Ok(Registration {
         poses,
         converged: stop == StopReason::Converged && report.unconnected_views.is_empty(),
@@ -123,7 +129,6 @@ pub(crate) fn run(
 /// could be fitted at all.
 fn consensus(
     trees: &[ViewTree],
-    layout: &ViewLayout,
     corr: &Correspondences,
     mut centroids: Vec<Point3<f64>>,
     mut mse: f64,
@@ -143,7 +148,7 @@ fn consensus(
         }
         fitted += 1;
         let previous = mse;
-        (centroids, mse) = self::centroids(trees, layout, &corr.sets, poses);
+        (centroids, mse) = self::centroids(trees, corr, poses);
         if settled(&[previous, mse], params.tolerance) {
             break;
         }
@@ -201,41 +206,50 @@ fn correspond(
 ) -> Correspondences {
     let edges = mutual_edges(trees, poses, layout, params.max_correspondence_distance);
     let sets = find_independent_sets(layout, &edges, params.set_rule);
+    let locals: Vec<(u32, u32)> = sets
+        .members()
+        .par_iter()
+        .map(|&m| {
+            let (v, i) = layout.local(m as usize);
+            (v as u32, i as u32)
+        })
+        .collect();
     let mut members_of = vec![Vec::new(); layout.views()];
     for s in 0..sets.len() {
-        for &m in sets.set(s) {
-            let (v, i) = layout.local(m as usize);
-            members_of[v].push((i as u32, s as u32));
+        for &(v, i) in &locals[sets.range(s)] {
+            members_of[v as usize].push((i, s as u32));
         }
     }
-    Correspondences { sets, members_of }
+    Correspondences {
+        sets,
+        locals,
+        members_of,
+    }
 }
 
 /// Centroid of every set at `poses` (parallel over sets) and the mean squared distance of
 /// the members to their centroid (0 without sets).
 fn centroids(
     trees: &[ViewTree],
-    layout: &ViewLayout,
-    sets: &IndependentSets,
+    corr: &Correspondences,
     poses: &[Pose],
 ) -> (Vec<Point3<f64>>, f64) {
-    let position = |id: u32| {
-        let (v, i) = layout.local(id as usize);
-        poses[v] * trees[v].points()[i]
-    };
+    let sets = &corr.sets;
+    let position =
+        |&(v, i): &(u32, u32)| poses[v as usize] * trees[v as usize].points()[i as usize];
     let chunks: Vec<Vec<(Point3<f64>, f64)>> = (0..sets.len().div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
             (c * CHUNK..((c + 1) * CHUNK).min(sets.len()))
                 .map(|s| {
-                    let members = sets.set(s);
+                    let members = &corr.locals[sets.range(s)];
                     let sum = members
                         .iter()
-                        .fold(Vector3::zeros(), |acc, &m| acc + position(m).coords);
+                        .fold(Vector3::zeros(), |acc, m| acc + position(m).coords);
                     let centroid = Point3::from(sum / members.len() as f64);
                     let sq: f64 = members
                         .iter()
-                        .map(|&m| (position(m) - centroid).norm_squared())
+                        .map(|m| (position(m) - centroid).norm_squared())
                         .sum();
                     (centroid, sq)
                 })

@@ -41,7 +41,11 @@ impl IcpTarget {
         let tree = ViewTree::build(view, &cloud.points)?;
         let normals = if params.point_to_plane {
             Some(match &cloud.normals {
-                Some(n) => n.clone(),
+                // Unit length; a zero normal stays zero and its pairs weigh nothing.
+                Some(n) => n
+                    .iter()
+                    .map(|v| v.try_normalize(0.0).unwrap_or_else(Vector3::zeros))
+                    .collect(),
                 None => {
                     let k = NonZeroUsize::new(params.normal_neighbours).ok_or(
                         RegistrationError::InvalidParameter {
@@ -61,7 +65,7 @@ impl IcpTarget {
 }
 
 /// The pose moving `source` onto `target`, starting from `initial` (source frame → target
-/// frame), by ICP.
+/// frame), by ICP. In errors, the source is view 0 and the target view 1.
 ///
 /// ```
 /// use nbv_core::cloud::PointCloud;

@@ -54,7 +54,17 @@ impl IndependentSets {
 
     /// Members (global ids) of set `s`.
     pub(crate) fn set(&self, s: usize) -> &[u32] {
-        &self.members[self.starts[s]..self.starts[s + 1]]
+        &self.members[self.range(s)]
+    }
+
+    /// Positions of set `s`'s members in [`members`](Self::members).
+    pub(crate) fn range(&self, s: usize) -> std::ops::Range<usize> {
+        self.starts[s]..self.starts[s + 1]
+    }
+
+    /// Members of all sets (global ids), set after set.
+    pub(crate) fn members(&self) -> &[u32] {
+        &self.members
     }
 
     /// Points in some set.
@@ -157,8 +167,7 @@ fn clique_led_by<'a>(
 ) -> Option<Vec<u32>> {
     let row_u = row(u);
     // The set by view slot: u in its own slot, its partners in theirs.
-    let mut slots = row_u.to_vec();
-    slots[view_u] = u as u32;
+    let slot = |k: usize| if k == view_u { u as u32 } else { row_u[k] };
     let mut has_partner = false;
     for (k, &v) in row_u.iter().enumerate() {
         if v == NONE {
@@ -173,12 +182,12 @@ fn clique_led_by<'a>(
         if row_v
             .iter()
             .enumerate()
-            .any(|(m, &pv)| m != k && pv != slots[m])
+            .any(|(m, &pv)| m != k && pv != slot(m))
         {
             return None;
         }
     }
-    has_partner.then(|| slots.into_iter().filter(|&p| p != NONE).collect())
+    has_partner.then(|| (0..row_u.len()).map(slot).filter(|&p| p != NONE).collect())
 }
 
 #[cfg(test)]

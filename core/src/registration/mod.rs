@@ -22,10 +22,19 @@
 //! - each view gets the rigid transform (SVD Procrustes with reflection guard,
 //!   [`rigid_procrustes`]) moving its set members onto the set centroids;
 //! - **convergence**: the mean squared distance of the set members to their centroid is
-//!   measured at the start of every iteration; the run stops when its relative change
-//!   since the previous iteration is at most `tolerance`, or after `max_iterations` pose
-//!   updates. It reports iterations, the final RMS, the number of independent sets and
-//!   whether it converged; views that do not overlap give a reported non-convergence.
+//!   measured after every correspondence search; the run stops when its relative change
+//!   since the previous search (or the one before, which catches a two-state cycle of
+//!   correspondences) is at most `tolerance`, or after `max_iterations` searches. Between
+//!   searches, generalised Procrustes alternates fits and centroids on the fixed sets until
+//!   the same criterion holds (at most `max_inner_iterations` fits). The report gives the
+//!   iterations, the final RMS, the number of independent sets and whether it converged;
+//!   views that do not overlap give a reported non-convergence, never made-up poses.
+//!
+//! Accuracy: with views that sample the surface independently, point-to-point
+//! correspondences are off by a fraction of the point spacing, and that sets the floor
+//! (about 0.5–1 mm on an 8 cm object sampled every 2–2.5 mm, see the tests). Convergence
+//! from centimetre errors takes tens to a few hundred iterations, since point-to-point
+//! steps slide slowly along smooth surfaces.
 //!
 //! Everything that runs in parallel (rayon: over points, sets and views) collects in
 //! index order and reduces sequentially, so results are bit-identical at any thread

@@ -68,7 +68,6 @@ pub(crate) fn mutual_edges(
     d_max: f64,
 ) -> Vec<[u32; 2]> {
     let w = trees.len();
-    let d_max_sq = d_max * d_max;
     // rel[j * w + i] maps view i's frame into view j's frame.
     let rel: Vec<Pose> = (0..w * w)
         .map(|k| poses[k / w].inverse() * poses[k % w])
@@ -79,6 +78,11 @@ pub(crate) fn mutual_edges(
             (0..n.div_ceil(CHUNK)).map(move |c| (i, c * CHUNK))
         })
         .collect();
+    let search = PairSearch {
+        trees,
+        rel: &rel,
+        d_max,
+    };
     let chunks: Vec<Vec<[u32; 2]>> = work
         .par_iter()
         .map(|&(i, start)| {
@@ -88,7 +92,7 @@ pub(crate) fn mutual_edges(
             for (a, p) in points[start..end].iter().enumerate() {
                 let a = start + a;
                 for j in i + 1..w {
-                    if let Some(b) = mutual_partner(trees, &rel, w, i, a, p, j, d_max_sq) {
+                    if let Some(b) = search.partner(i, a, p, j) {
                         edges.push([layout.global(i, a) as u32, layout.global(j, b) as u32]);
                     }
                 }
@@ -99,27 +103,33 @@ pub(crate) fn mutual_edges(
     chunks.concat()
 }
 
-/// The point of view j that is the mutual nearest neighbour of point `a` (at `p`) of view
-/// i within `sqrt(d_max_sq)`, if any.
-#[allow(clippy::too_many_arguments)]
-#[inline]
-fn mutual_partner(
-    trees: &[ViewTree],
-    rel: &[Pose],
-    w: usize,
-    i: usize,
-    a: usize,
-    p: &Point3<f64>,
-    j: usize,
-    d_max_sq: f64,
-) -> Option<usize> {
-    let (b, d_sq) = trees[j].nearest(&(rel[j * w + i] * p));
-    if d_sq >= d_max_sq {
-        return None;
+/// The trees and relative poses of one search.
+struct PairSearch<'a> {
+    trees: &'a [ViewTree],
+    /// `rel[j * w + i]` maps view i's frame into view j's frame.
+    rel: &'a [Pose],
+    d_max: f64,
+}
+
+impl PairSearch<'_> {
+    /// The point of view j that is the mutual nearest neighbour of point `a` (at `p`) of
+    /// view i within `d_max`, if any.
+    #[inline]
+    fn partner(&self, i: usize, a: usize, p: &Point3<f64>, j: usize) -> Option<usize> {
+        let w = self.trees.len();
+        let q = self.rel[j * w + i] * p;
+        // Outside view j's bounding box by more than d_max: nothing there is close enough.
+        if !self.trees[j].near_bounds(&q, self.d_max) {
+            return None;
+        }
+        let (b, d_sq) = self.trees[j].nearest(&q);
+        if d_sq >= self.d_max * self.d_max {
+            return None;
+        }
+        let back = self.rel[i * w + j] * self.trees[j].points()[b];
+        let (a_back, _) = self.trees[i].nearest(&back);
+        (a_back == a).then_some(b)
     }
-    let q = trees[j].points()[b];
-    let (back, _) = trees[i].nearest(&(rel[i * w + j] * q));
-    (back == a).then_some(b)
 }
 
 #[cfg(test)]

@@ -21,6 +21,9 @@ const MAX_COORDINATE: f64 = 1e9;
 pub(crate) struct ViewTree {
     points: Vec<Point3<f64>>,
     tree: ImmutableKdTree<f64, 3>,
+    /// Axis-aligned bounds of the points.
+    lo: Point3<f64>,
+    hi: Point3<f64>,
 }
 
 impl ViewTree {
@@ -34,15 +37,27 @@ impl ViewTree {
                 view,
                 message: e.to_string(),
             })?;
+        let first = points.first().copied().unwrap_or_else(Point3::origin);
+        let (lo, hi) = points
+            .iter()
+            .fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
         Ok(Self {
             points: points.to_vec(),
             tree,
+            lo,
+            hi,
         })
     }
 
     /// The view's points in its own frame.
     pub(crate) fn points(&self) -> &[Point3<f64>] {
         &self.points
+    }
+
+    /// Whether `q` (view frame) lies within `margin` of the points' bounding box: if not,
+    /// no point is within `margin` of it.
+    pub(crate) fn near_bounds(&self, q: &Point3<f64>, margin: f64) -> bool {
+        (0..3).all(|k| q[k] >= self.lo[k] - margin && q[k] <= self.hi[k] + margin)
     }
 
     /// Index of the nearest point to `q` (view frame) and its squared distance.
@@ -117,6 +132,11 @@ pub(crate) fn check_views(
     }
     for (view, cloud) in views.iter().enumerate() {
         check_view(view, cloud)?;
+    }
+    // Points are numbered globally with u32, u32::MAX being reserved.
+    let total: usize = views.iter().map(PointCloud::len).sum();
+    if total >= u32::MAX as usize {
+        return Err(RegistrationError::TooManyPointsInAll(total));
     }
     for (view, pose) in poses.iter().enumerate() {
         check_pose(view, pose)?;
