@@ -5,8 +5,9 @@
 //! pose per view (view frame → world frame, e.g. the sensor poses the robot reported).
 //! Output: a [`Registration`] with the refined pose of each view (view → world), where the
 //! reference view keeps its initial pose and every other view is placed relative to it,
-//! plus a report. [`Method`] switches between the algorithms with the same input and
-//! output; [`align`] registers a single pair.
+//! plus a report; [`Registration::merged`] builds the model cloud. [`Method`] switches
+//! between the algorithms with the same input and output; [`align`] registers a single
+//! pair. Parameters and results are serde types, ready for scene files and JSON reports.
 //!
 //! p-ICP-GPA, as implemented here:
 //! - one k-d tree per view, built once in the view's own frame; queries are moved by the
@@ -44,6 +45,7 @@ mod error;
 mod gpa;
 mod icp;
 mod independent_sets;
+mod merge;
 mod mutual_neighbours;
 mod normals;
 mod params;
