@@ -17,3 +17,4 @@ pub mod math;
 pub mod mesh;
 pub mod occupancy;
 pub mod rig;
+pub mod registration;
