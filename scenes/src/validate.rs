@@ -539,7 +539,7 @@ fn robot_model(s: &Scene, c: &Check) -> Result<(), SceneError> {
                 limit.lower.to_degrees(),
                 limit.upper.to_degrees()
             );
-            return Err(c.err(&format!("robot.home_deg[{j}]"), Problem::Robot(msg)));
+            return Err(c.err(format!("robot.home_deg[{j}]"), Problem::Robot(msg)));
         }
     }
     Ok(())
