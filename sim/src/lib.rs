@@ -2,3 +2,5 @@
 //!
 //! The twin: a Rapier world built from a scene, in which the simulated arm moves and the
 //! simulated sensors cast their rays.
+
+pub mod render;
