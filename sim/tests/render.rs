@@ -462,3 +462,18 @@ fn wgpu_backend_env_without_adapter() {
         "{stdout}"
     );
 }
+
+#[test]
+fn one_renderer_serves_many_threads() {
+    fn send_sync<T: Send + Sync>() {}
+    send_sync::<Renderer>();
+    let (scene, camera) = two_boxes(BLUE, RED);
+    let images: Vec<RgbaImage> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..3)
+            .map(|_| s.spawn(|| renderer().render(&scene, &camera, 320, 240).unwrap()))
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    // Same input, same picture, whichever thread drew it.
+    assert!(images.windows(2).all(|w| w[0] == w[1]));
+}

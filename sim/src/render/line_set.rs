@@ -25,7 +25,7 @@ pub struct LineSet {
     pub segments: Vec<[Point3<f64>; 2]>,
     /// One colour for all segments, or one per segment.
     pub colors: Vec<Color>,
-    /// Line width in pixels.
+    /// Line width in pixels (clamped to 1..=64 when drawn).
     pub width: f32,
 }
 

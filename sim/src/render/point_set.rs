@@ -36,7 +36,7 @@ pub struct PointSet {
     pub points: Vec<Point3<f64>>,
     /// One colour for all points, or one per point.
     pub colors: Vec<Color>,
-    /// Sprite diameter in pixels.
+    /// Sprite diameter in pixels (clamped to 1..=256 when drawn).
     pub size: f32,
 }
 
