@@ -15,5 +15,6 @@ pub mod cloud;
 pub mod kinematics;
 pub mod math;
 pub mod mesh;
+pub mod nbv;
 pub mod occupancy;
 pub mod rig;
