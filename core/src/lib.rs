@@ -17,4 +17,5 @@ pub mod math;
 pub mod mesh;
 pub mod nbv;
 pub mod occupancy;
+pub mod planning;
 pub mod rig;

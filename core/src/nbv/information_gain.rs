@@ -20,10 +20,12 @@
 //! - an unknown voxel seen occupied (p' = 0.7): `0.5·ln(0.5/0.7)` = −0.1682;
 //! - an occupied voxel (p = 0.7) hit again (p' = 0.8448): `0.7·ln(0.7/0.8448)` = −0.1316.
 //!
-//! A view that mostly re-observes known surface therefore gives a small or negative G,
-//! and one that clears unknown space a large positive G. The stop rule
-//! ([`StopRule`](super::StopRule)) compares G itself (not |G|) with `gain_thr`, as the paper
-//! does: a negative gain stops the exploration of the object.
+//! A view that hits surface therefore gives a small or negative G, and one that only clears
+//! unknown space a positive G. The stop rule ([`StopRule`](super::StopRule)) compares G
+//! itself (not |G|) with `gain_thr`, as the paper does, so a negative gain stops the
+//! exploration of the object; its doc gives the numbers of a simulated first view, for
+//! which G is negative. [`InformationGain::bernoulli_kl`], the completed (non-negative)
+//! divergence, is reported alongside and can drive the stop rule instead.
 
 use super::NbvError;
 use crate::occupancy::{OccupancyGrid, probability};
@@ -55,6 +57,11 @@ pub struct InformationGain {
     pub voxels: usize,
     /// Voxels whose probability changed.
     pub changed: usize,
+    /// The completed form of the printed term, the Bernoulli Kullback–Leibler divergence
+    /// `Σ p·ln(p/p') + (1−p)·ln((1−p)/(1−p'))` over the same voxels: never negative, 0
+    /// only if nothing changed. Not the paper's G; reported for comparison and selectable
+    /// in the [`StopRule`](super::StopRule).
+    pub bernoulli_kl: f64,
 }
 
 impl InformationGain {
@@ -70,6 +77,7 @@ impl InformationGain {
             let p = probability(f64::from(before));
             let q = probability(f64::from(after));
             let term = -p * (q / p).ln();
+            g.bernoulli_kl += term + (1.0 - p) * ((1.0 - p) / (1.0 - q)).ln();
             if term >= 0.0 {
                 g.freed += term;
             } else {
@@ -120,9 +128,10 @@ mod tests {
     fn hand_computed_terms() {
         let params = OccupancyParams::default();
         let u = params.hit_log_odds();
-        // Unknown seen free: 0.5·ln(0.5/0.3) = 0.255413.
+        // Unknown seen free: 0.5·ln(0.5/0.3) = 0.255413; KL adds 0.5·ln(0.5/0.7).
         let g = InformationGain::from_log_odds([(0.0, -u)]);
         assert!((g.total - 0.255_412_811_882_995_3).abs() < 1e-7);
+        assert!((g.bernoulli_kl - (0.255_412_811_882_995_3 - 0.168_236_118_310_606)).abs() < 1e-7);
         // Unknown seen occupied: 0.5·ln(0.5/0.7) = −0.168236.
         let g = InformationGain::from_log_odds([(0.0, u)]);
         assert!((g.total + 0.168_236_118_310_606).abs() < 1e-7);

@@ -16,7 +16,8 @@
 //!    every-ray-against-every-voxel loop and gives the same sets;
 //! 5. [`ScoreWeights`]: eq. (4), candidates sorted best first ([`NextBestView::candidates`]);
 //! 6. after the view was acquired and the grid updated: [`InformationGain`] (eq. (5) as
-//!    printed; its sign is discussed there) and the [`StopRule`].
+//!    printed; its sign is discussed there — it is negative for views that hit surface)
+//!    and the [`StopRule`] (on eq. (5) by default, or on the Bernoulli KL divergence).
 //!
 //! # Deviations and choices
 //!
@@ -41,7 +42,7 @@ mod visited_views;
 pub use information_gain::InformationGain;
 pub use nbv_error::NbvError;
 pub use sensor_rays::SensorRays;
-pub use stop_rule::{StopReason, StopRule};
+pub use stop_rule::{GainMeasure, StopReason, StopRule};
 pub use view_pose::{view_pose, view_pose_rolled, view_position, view_rotation};
 pub use view_score::ScoreWeights;
 pub use view_sphere::{SphereSample, ViewSphere};

@@ -329,3 +329,115 @@ pub fn sort_best_first(candidates: &mut [Candidate]) {
         })
     });
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn candidate(i_theta: usize, i_phi: usize, unknown: usize, occupied: usize) -> Candidate {
+        let visible = VisibleVoxels {
+            unknown: (0..unknown).collect(),
+            occupied: (100..100 + occupied).collect(),
+            ..VisibleVoxels::default()
+        };
+        Candidate {
+            viewpoint: Viewpoint {
+                sample: SphereSample {
+                    i_theta,
+                    i_phi,
+                    theta: 0.0,
+                    phi: 0.0,
+                },
+                roll: 0.0,
+                pose: Pose::identity(),
+                solutions: Vec::new(),
+            },
+            score: ScoreWeights::default().score(&visible),
+            visible,
+        }
+    }
+
+    #[test]
+    fn best_first_with_index_ties() {
+        // Scores: 4·2 + 1 = 9, 4·1 + 5 = 9, 4·3 = 12, 4·0 + 9 = 9, 0.
+        let mut c = vec![
+            candidate(2, 5, 2, 1),
+            candidate(1, 7, 1, 5),
+            candidate(3, 0, 3, 0),
+            candidate(1, 2, 0, 9),
+            candidate(0, 0, 0, 0),
+        ];
+        sort_best_first(&mut c);
+        let order: Vec<_> = c
+            .iter()
+            .map(|x| {
+                (
+                    x.score,
+                    x.viewpoint.sample.i_theta,
+                    x.viewpoint.sample.i_phi,
+                )
+            })
+            .collect();
+        assert_eq!(
+            order,
+            vec![
+                (12.0, 3, 0),
+                (9.0, 1, 2),
+                (9.0, 1, 7),
+                (9.0, 2, 5),
+                (0.0, 0, 0)
+            ]
+        );
+        let mut list = ViewpointList {
+            centroid: Point3::origin(),
+            candidates: c,
+            samples: 5,
+            visited: 0,
+            unreachable: 0,
+            rays_per_view: 0,
+        };
+        assert_eq!(list.pop_first().unwrap().score, 12.0);
+        assert_eq!(list.candidates.len(), 4);
+    }
+
+    #[test]
+    fn invalid_parameters() {
+        let camera = DepthCameraSpec {
+            frame: "dinast".into(),
+            range: [0.1, 0.8],
+            width: 320,
+            height: 240,
+            hfov: 80f64.to_radians(),
+        };
+        let d = NbvParams::default();
+        for bad in [
+            NbvParams {
+                roll_candidates: 0,
+                ..d
+            },
+            NbvParams { ray_stride: 0, ..d },
+            NbvParams {
+                weights: ScoreWeights {
+                    unknown: -1.0,
+                    occupied: 1.0,
+                },
+                ..d
+            },
+            NbvParams {
+                sphere: ViewSphere {
+                    radius: -0.3,
+                    ..d.sphere
+                },
+                ..d
+            },
+        ] {
+            assert!(matches!(
+                NextBestView::new(bad, &camera),
+                Err(NbvError::InvalidParameter { .. })
+            ));
+        }
+        let nbv = NextBestView::new(d, &camera).unwrap();
+        assert_eq!(nbv.rays.len(), 1200);
+        assert_eq!(nbv.frame, "dinast");
+    }
+}
