@@ -1,17 +1,38 @@
-//! `nbv`: the command-line front end of nbv-twin.
+//! `nbv`: the command-line front end of nbv-twin. Each subcommand lives in its own file
+//! under `src/cli/`; this file only parses and dispatches.
 
-use clap::Parser;
+mod cli;
+
+use clap::{Parser, Subcommand};
 
 /// Digital-twin testbed for hybrid-range next-best-view exploration of unknown objects.
 #[derive(Debug, Parser)]
 #[command(name = "nbv", version, about, long_about = None)]
-struct Cli {}
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
 
-fn main() -> anyhow::Result<()> {
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Scene files: validate, describe, generate random scenes, write the object meshes.
+    Scene(cli::scene::SceneArgs),
+}
+
+fn main() -> std::process::ExitCode {
     tracing_subscriber::fmt()
         .with_env_filter(tracing_subscriber::EnvFilter::from_default_env())
         .with_writer(std::io::stderr)
         .init();
-    let _cli = Cli::parse();
-    Ok(())
+    let result = match Cli::parse().command {
+        Command::Scene(args) => cli::scene::run(args),
+    };
+    match result {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            // The error and its causes on one line each, without a backtrace.
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
 }

@@ -18,4 +18,5 @@ pub mod mesh;
 pub mod nbv;
 pub mod occupancy;
 pub mod planning;
+pub mod registration;
 pub mod rig;

@@ -1,0 +1,102 @@
+//! The paper's Table II case: global registration of 5 views with 15K points in all
+//! (3000 per view: a top, mid-range-like view and 4 views 36° apart around the object,
+//! 0.3 mm range noise, every view but the reference off by 1° and 5 mm), by p-ICP-GPA and
+//! by sequential ICP (point-to-point and point-to-plane), each on custom rayon pools of 1,
+//! 2 and all threads. Each run goes to convergence; the iteration count does not depend
+//! on the thread count, so the times compare like for like. Accuracy and iteration counts
+//! are printed once before timing.
+
+use std::hint::black_box;
+use std::time::{Duration, Instant};
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use nbv_core::registration::{Method, MethodReport, RegistrationParams, register};
+
+#[path = "../tests/registration_data/mod.rs"]
+mod registration_data;
+
+use registration_data::{Spec, generate, worst_error, worst_point_error};
+
+fn table_ii(c: &mut Criterion) {
+    let s = generate(&Spec {
+        views: 5,
+        top_view: true,
+        points_per_view: 3000,
+        noise: 0.0003,
+        rotation_error_deg: 1.0,
+        translation_error: 0.005,
+        ..Spec::default()
+    });
+    let methods = [
+        ("gpa", Method::Gpa),
+        (
+            "sequential_icp_point",
+            Method::SequentialIcp {
+                point_to_plane: false,
+            },
+        ),
+        (
+            "sequential_icp_plane",
+            Method::SequentialIcp {
+                point_to_plane: true,
+            },
+        ),
+    ];
+    let all = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let mut threads = vec![1, 2, all];
+    threads.dedup();
+    let pools: Vec<(usize, rayon::ThreadPool)> = threads
+        .iter()
+        .map(|&n| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .expect("thread pool");
+            (n, pool)
+        })
+        .collect();
+    for (name, method) in methods {
+        let params = RegistrationParams {
+            method,
+            max_correspondence_distance: 0.01,
+            max_iterations: 300,
+            ..RegistrationParams::default()
+        };
+        let reg = register(&s.views, &s.initial, &params).expect("registration");
+        let (r, t) = worst_error(&reg.poses, &s.truth);
+        let p = worst_point_error(&s.views, &reg.poses, &s.truth);
+        let iterations = match &reg.report {
+            MethodReport::Gpa(g) => format!(
+                "{} iterations, {} fits, {} sets",
+                g.iterations, g.inner_iterations, g.independent_sets
+            ),
+            MethodReport::SequentialIcp(q) => format!(
+                "iterations per pair {:?}",
+                q.pairs.iter().map(|p| p.icp.iterations).collect::<Vec<_>>()
+            ),
+        };
+        eprintln!(
+            "{name}: converged {}, worst error {r:.3}° {:.2} mm, object points {:.2} mm, \
+             rms {:.3} mm, {iterations}",
+            reg.converged,
+            t * 1e3,
+            p * 1e3,
+            reg.rms.unwrap_or(f64::NAN) * 1e3
+        );
+        let mut group = c.benchmark_group(format!("table_ii_5_views_15k/{name}"));
+        group.sample_size(10);
+        // Enough time for 10 runs to convergence (GPA takes seconds on one thread).
+        let one_run = Instant::now();
+        let _ = black_box(register(&s.views, &s.initial, &params));
+        group.measurement_time((one_run.elapsed() * 12).max(Duration::from_secs(5)));
+        for (n, pool) in &pools {
+            group.bench_with_input(BenchmarkId::new("threads", n), n, |b, _| {
+                b.iter(|| pool.install(|| register(black_box(&s.views), &s.initial, &params)))
+            });
+        }
+        group.finish();
+    }
+}
+
+criterion_group!(benches, table_ii);
+criterion_main!(benches);

@@ -1,0 +1,154 @@
+//! [`ViewTree`]: one view's points in its own frame with a k-d tree built once over them,
+//! and the input checks every registration runs before touching the data.
+//!
+//! Trees are never rebuilt while registering: query points are moved into the view's
+//! frame instead (distances are invariant under rigid transforms).
+
+use std::num::NonZeroUsize;
+
+use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use nalgebra::Point3;
+
+use super::RegistrationError;
+use crate::cloud::PointCloud;
+use crate::math::Pose;
+
+/// Coordinates beyond this magnitude (metres) are rejected: no sensor measures them, and
+/// the k-d tree reserves `f64::MAX`.
+const MAX_COORDINATE: f64 = 1e9;
+
+/// A view's points (own frame) and a k-d tree over them.
+pub(crate) struct ViewTree {
+    points: Vec<Point3<f64>>,
+    tree: ImmutableKdTree<f64, 3>,
+    /// Axis-aligned bounds of the points.
+    lo: Point3<f64>,
+    hi: Point3<f64>,
+}
+
+impl ViewTree {
+    /// Builds the tree (serially, so the tree is the same at any thread count). The cloud
+    /// must have passed [`check_view`].
+    pub(crate) fn build(view: usize, points: &[Point3<f64>]) -> Result<Self, RegistrationError> {
+        let coords: Vec<[f64; 3]> = points.iter().map(|p| [p.x, p.y, p.z]).collect();
+        let tree = ImmutableKdTree::<f64, 3>::builder()
+            .build_from_slice(&coords)
+            .map_err(|e| RegistrationError::KdTree {
+                view,
+                message: e.to_string(),
+            })?;
+        let first = points.first().copied().unwrap_or_else(Point3::origin);
+        let (lo, hi) = points
+            .iter()
+            .fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
+        Ok(Self {
+            points: points.to_vec(),
+            tree,
+            lo,
+            hi,
+        })
+    }
+
+    /// The view's points in its own frame.
+    pub(crate) fn points(&self) -> &[Point3<f64>] {
+        &self.points
+    }
+
+    /// Whether `q` (view frame) lies within `margin` of the points' bounding box: if not,
+    /// no point is within `margin` of it.
+    pub(crate) fn near_bounds(&self, q: &Point3<f64>, margin: f64) -> bool {
+        (0..3).all(|k| q[k] >= self.lo[k] - margin && q[k] <= self.hi[k] + margin)
+    }
+
+    /// Index of the nearest point to `q` (view frame) and its squared distance.
+    pub(crate) fn nearest(&self, q: &Point3<f64>) -> (usize, f64) {
+        let nn = self
+            .tree
+            .query(&[q.x, q.y, q.z])
+            .nearest_one::<SquaredEuclidean<f64>>()
+            .execute();
+        (nn.item as usize, nn.distance)
+    }
+
+    /// Indices of the `k` nearest points to `q` (fewer if the view is smaller), nearest
+    /// first.
+    pub(crate) fn nearest_k(&self, q: &Point3<f64>, k: NonZeroUsize) -> Vec<usize> {
+        self.tree
+            .query(&[q.x, q.y, q.z])
+            .nearest_n::<SquaredEuclidean<f64>>(k)
+            .execute()
+            .into_iter()
+            .map(|r| r.item as usize)
+            .collect()
+    }
+}
+
+/// Checks one view: not empty, consistent columns, finite and sane coordinates, and
+/// indexable by a u32 k-d tree.
+pub(crate) fn check_view(view: usize, cloud: &PointCloud) -> Result<(), RegistrationError> {
+    if cloud.is_empty() {
+        return Err(RegistrationError::EmptyView(view));
+    }
+    cloud
+        .validate()
+        .map_err(|source| RegistrationError::InvalidView { view, source })?;
+    if let Some(index) = cloud
+        .points
+        .iter()
+        .position(|p| p.coords.iter().any(|c| c.abs() > MAX_COORDINATE))
+    {
+        return Err(RegistrationError::PointOutOfRange { view, index });
+    }
+    if u32::try_from(cloud.len()).is_err() {
+        return Err(RegistrationError::TooManyPoints {
+            view,
+            points: cloud.len(),
+        });
+    }
+    Ok(())
+}
+
+/// Checks a multi-view input: at least two views, one finite pose per view, every view
+/// valid, the reference index in range.
+pub(crate) fn check_views(
+    views: &[PointCloud],
+    poses: &[Pose],
+    reference: usize,
+) -> Result<(), RegistrationError> {
+    if views.len() < 2 {
+        return Err(RegistrationError::TooFewViews(views.len()));
+    }
+    if poses.len() != views.len() {
+        return Err(RegistrationError::PoseCountMismatch {
+            views: views.len(),
+            poses: poses.len(),
+        });
+    }
+    if reference >= views.len() {
+        return Err(RegistrationError::ReferenceOutOfRange {
+            reference,
+            views: views.len(),
+        });
+    }
+    for (view, cloud) in views.iter().enumerate() {
+        check_view(view, cloud)?;
+    }
+    // Points are numbered globally with u32, u32::MAX being reserved.
+    let total: usize = views.iter().map(PointCloud::len).sum();
+    if total >= u32::MAX as usize {
+        return Err(RegistrationError::TooManyPointsInAll(total));
+    }
+    for (view, pose) in poses.iter().enumerate() {
+        check_pose(view, pose)?;
+    }
+    Ok(())
+}
+
+/// Checks that a pose is finite.
+pub(crate) fn check_pose(view: usize, pose: &Pose) -> Result<(), RegistrationError> {
+    if pose.to_homogeneous().iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(RegistrationError::NonFinitePose(view))
+    }
+}

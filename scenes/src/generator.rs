@@ -1,0 +1,268 @@
+//! Seeded random table-top scenes for sweeps: objects from the library at random yaw and
+//! position on the table, not touching, and obstacles at the back.
+//!
+//! Deterministic: the same seed, object count and configuration give the same scene
+//! (ChaCha8 seeded with the seed). Placement is conservative — the rotated footprints'
+//! bounding rectangles keep `min_gap` apart, so the meshes do too — and every candidate
+//! object can be screened by a [`Reachability`] test on its viewing sphere (the lead plugs
+//! inverse kinematics in; [`generate`] accepts every pose).
+
+use crate::describe::solid_centroid;
+use crate::error::SceneError;
+use crate::meshgen::ObjectKind;
+use crate::reachability::{Reachability, count_reachable, viewing_sphere};
+use crate::scene::Scene;
+use crate::schema::*;
+use nalgebra::Point3;
+use nbv_core::mesh::TriMesh;
+use nbv_core::mesh::io::read_mesh;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::path::PathBuf;
+
+/// Settings of the generator (not part of scene files: they shape the scenes it writes).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GeneratorConfig {
+    /// Directory holding `<object>.stl` for every library object.
+    pub mesh_dir: PathBuf,
+    /// The robot URDF the scenes refer to.
+    pub urdf: PathBuf,
+    /// Range of object positions `[x_min, x_max]` (m).
+    pub region_x: [f64; 2],
+    /// Range of object positions `[y_min, y_max]` (m).
+    pub region_y: [f64; 2],
+    /// Smallest gap between the footprint rectangles of two objects (m).
+    pub min_gap: f64,
+    /// Placement attempts per object before giving up.
+    pub attempts: u32,
+    /// Smallest number of reachable viewpoints an object's viewing sphere must offer.
+    pub min_reachable_viewpoints: usize,
+    /// Number of extra random boxes at the back (besides the back panel), inclusive range.
+    pub extra_obstacles: [u32; 2],
+}
+
+impl Default for GeneratorConfig {
+    fn default() -> Self {
+        let assets = crate::builtin::assets_dir();
+        Self {
+            mesh_dir: assets.join("meshes"),
+            urdf: assets.join("urdf/comau_smart_six.urdf"),
+            region_x: [0.55, 0.95],
+            region_y: [-0.45, 0.45],
+            min_gap: 0.10,
+            attempts: 500,
+            min_reachable_viewpoints: 1,
+            extra_obstacles: [0, 2],
+        }
+    }
+}
+
+/// A random scene with `n_objects` library objects (every reachability test passes).
+///
+/// ```no_run
+/// let scene = nbv_scenes::generator::generate(7, 4).unwrap();
+/// assert_eq!(scene.objects.len(), 4);
+/// ```
+pub fn generate(seed: u64, n_objects: usize) -> Result<Scene, SceneError> {
+    let all = |_: &nbv_core::math::Pose| true;
+    generate_with(seed, n_objects, &GeneratorConfig::default(), &all)
+}
+
+/// A random scene, with an explicit configuration and reachability test.
+pub fn generate_with(
+    seed: u64,
+    n_objects: usize,
+    config: &GeneratorConfig,
+    reach: &dyn Reachability,
+) -> Result<Scene, SceneError> {
+    let fail = |message: String| SceneError::Generate { seed, message };
+    if seed > i64::MAX as u64 {
+        return Err(fail(format!("the seed must be at most {}", i64::MAX)));
+    }
+    let ordered = |r: [f64; 2]| r[0].is_finite() && r[1].is_finite() && r[0] <= r[1];
+    if !ordered(config.region_x) || !ordered(config.region_y) {
+        return Err(fail(
+            "the object region must be finite with min <= max".into(),
+        ));
+    }
+    if n_objects == 0 {
+        return Err(fail("at least one object is needed".into()));
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let table = Table {
+        min: [0.35, -0.70, 0.0],
+        max: [1.35, 0.70, 0.25],
+    };
+    let top = table.top();
+    // Kinds: a shuffled pass over the library, repeated as needed.
+    let mut kinds = Vec::with_capacity(n_objects);
+    while kinds.len() < n_objects {
+        let mut pass = ObjectKind::ALL.to_vec();
+        for i in (1..pass.len()).rev() {
+            pass.swap(i, rng.random_range(0..=i));
+        }
+        kinds.extend(pass);
+    }
+    kinds.truncate(n_objects);
+    let mut meshes = std::collections::HashMap::new();
+    for kind in ObjectKind::ALL {
+        let path = config.mesh_dir.join(format!("{}.stl", kind.name()));
+        let mesh = read_mesh(&path).map_err(|e| fail(e.to_string()))?;
+        meshes.insert(kind, (path, mesh));
+    }
+    let mut placed: Vec<[f64; 4]> = Vec::new(); // footprint rectangles [x0, y0, x1, y1]
+    let mut objects: Vec<ObjectSpec> = Vec::new();
+    let mut counts = std::collections::HashMap::new();
+    let nbv = Nbv::default();
+    for kind in kinds {
+        let (path, mesh) = &meshes[&kind];
+        let mut done = false;
+        for _ in 0..config.attempts {
+            let yaw = rng.random_range(0.0..360.0f64);
+            let x = rng.random_range(config.region_x[0]..=config.region_x[1]);
+            let y = rng.random_range(config.region_y[0]..=config.region_y[1]);
+            let pose = PoseSpec {
+                xyz: [round(x), round(y), top],
+                rpy_deg: [0.0, 0.0, round(yaw)],
+            };
+            let world = mesh.transformed(&pose.to_pose());
+            let rect = footprint(&world);
+            let on_table = rect[0] >= table.min[0] + 0.02
+                && rect[2] <= table.max[0] - 0.02
+                && rect[1] >= table.min[1] + 0.02
+                && rect[3] <= table.max[1] - 0.02;
+            let apart = placed.iter().all(|r| rect_gap(r, &rect) >= config.min_gap);
+            if !on_table || !apart {
+                continue;
+            }
+            let views = viewing_sphere(&solid_centroid(&world), &nbv);
+            if count_reachable(&views, reach) < config.min_reachable_viewpoints {
+                continue;
+            }
+            let n = counts.entry(kind).or_insert(0u32);
+            *n += 1;
+            let name = if *n == 1 {
+                kind.name().to_owned()
+            } else {
+                format!("{}-{}", kind.name(), n)
+            };
+            placed.push(rect);
+            objects.push(ObjectSpec {
+                name,
+                mesh: path.clone(),
+                pose,
+            });
+            done = true;
+            break;
+        }
+        if !done {
+            return Err(fail(format!(
+                "no room for `{}` after {} attempts ({} objects placed)",
+                kind.name(),
+                config.attempts,
+                objects.len()
+            )));
+        }
+    }
+    // Obstacles: a back panel and a few boxes, clear of the objects.
+    let mut obstacles = vec![ObstacleSpec {
+        name: "back-panel".into(),
+        box_size: Some([
+            0.04,
+            round(rng.random_range(0.8..1.2)),
+            round(rng.random_range(0.30..0.45)),
+        ]),
+        mesh: None,
+        pose: PoseSpec {
+            xyz: [
+                round(rng.random_range(1.24..1.30)),
+                round(rng.random_range(-0.15..0.15)),
+                top,
+            ],
+            rpy_deg: [0.0; 3],
+        },
+        known: true,
+    }];
+    let extra = rng.random_range(
+        config.extra_obstacles[0]..=config.extra_obstacles[1].max(config.extra_obstacles[0]),
+    );
+    let mut boxes: Vec<[f64; 4]> = Vec::new();
+    for k in 0..extra {
+        for _ in 0..config.attempts {
+            // Between x = 1.08 and the panel's front face (≥ 1.22).
+            let sx = round(rng.random_range(0.08..=0.12));
+            let sy = round(rng.random_range(0.10..=0.30));
+            let sz = round(rng.random_range(0.30..=0.45));
+            let x = round(rng.random_range(1.08 + 0.5 * sx..=1.21 - 0.5 * sx));
+            let y = round(rng.random_range(-0.68 + 0.5 * sy..0.68 - 0.5 * sy));
+            let rect = [x - 0.5 * sx, y - 0.5 * sy, x + 0.5 * sx, y + 0.5 * sy];
+            if placed
+                .iter()
+                .chain(&boxes)
+                .all(|r| rect_gap(r, &rect) >= config.min_gap * 0.5)
+            {
+                boxes.push(rect);
+                obstacles.push(ObstacleSpec {
+                    name: format!("box-{}", k + 1),
+                    box_size: Some([sx, sy, sz]),
+                    mesh: None,
+                    pose: PoseSpec {
+                        xyz: [x, y, top],
+                        rpy_deg: [0.0; 3],
+                    },
+                    known: rng.random_bool(0.8),
+                });
+                break;
+            }
+        }
+    }
+    let scene = Scene {
+        name: format!("random-{seed}"),
+        description: format!(
+            "Random table-top scene: seed {seed}, {n_objects} objects from the library, obstacles at the back."
+        ),
+        seed,
+        workspace: Workspace {
+            min: [0.30, -0.70, 0.23],
+            max: [1.50, 0.70, 0.83],
+            resolution: 0.02,
+        },
+        robot: RobotSpec {
+            urdf: config.urdf.clone(),
+            base: PoseSpec::default(),
+            home_deg: [0.0, 0.0, -90.0, 0.0, 90.0, 0.0],
+        },
+        table,
+        objects,
+        obstacles,
+        layout: Layout::default(),
+        sensors: Sensors::default(),
+        sweep: Sweep::default(),
+        mapping: Mapping::default(),
+        segmentation: Segmentation::default(),
+        nbv,
+        planner: Planner::default(),
+        registration: Registration::default(),
+        errors: ErrorModel::default(),
+        source: None,
+    };
+    Ok(scene)
+}
+
+/// Rounds to 0.1 mm / 0.01° so written scenes read cleanly (and round-trip exactly).
+fn round(v: f64) -> f64 {
+    (v * 1e4).round() / 1e4
+}
+
+/// xy bounding rectangle `[x0, y0, x1, y1]` of a placed mesh.
+fn footprint(m: &TriMesh) -> [f64; 4] {
+    let (lo, hi) = m.bounds().unwrap_or((Point3::origin(), Point3::origin()));
+    [lo.x, lo.y, hi.x, hi.y]
+}
+
+/// Gap between two rectangles (0 when they overlap).
+fn rect_gap(a: &[f64; 4], b: &[f64; 4]) -> f64 {
+    let dx = (b[0] - a[2]).max(a[0] - b[2]).max(0.0);
+    let dy = (b[1] - a[3]).max(a[1] - b[3]).max(0.0);
+    (dx * dx + dy * dy).sqrt()
+}

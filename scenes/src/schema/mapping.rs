@@ -1,0 +1,40 @@
+//! [`Mapping`]: the log-odds occupancy grid's sensor model and thresholds.
+
+use serde::{Deserialize, Serialize};
+
+/// Occupancy update of eq. (1)–(2): `+u` at the hit voxel, `−u` along the ray, with
+/// `u = ln(p_hit / (1 − p_hit))`, clamped; states by `ε_o` (occupied `o > ε_o`, unknown
+/// `|o| ≤ ε_o`, empty `o < −ε_o`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Mapping {
+    /// The paper's `p̄` ∈ (0.5, 1). Default 0.7 (OctoMap's hit probability).
+    pub p_hit: f64,
+    /// Unknown band `ε_o` (log-odds), below `u` so one observation decides a voxel.
+    /// Default 0.4.
+    pub epsilon_o: f64,
+    /// Log-odds clamping `[min, max]`. Default `[-2.0, 3.5]` (OctoMap's 0.1192 / 0.971).
+    pub clamp: [f64; 2],
+}
+
+impl Default for Mapping {
+    fn default() -> Self {
+        Self {
+            p_hit: 0.7,
+            epsilon_o: 0.4,
+            clamp: [-2.0, 3.5],
+        }
+    }
+}
+
+impl Mapping {
+    /// The log-odds increment `u = ln(p_hit / (1 − p_hit))`.
+    ///
+    /// ```
+    /// let u = nbv_scenes::schema::Mapping::default().log_odds_hit();
+    /// assert!((u - 0.8473).abs() < 1e-4);
+    /// ```
+    pub fn log_odds_hit(&self) -> f64 {
+        (self.p_hit / (1.0 - self.p_hit)).ln()
+    }
+}

@@ -1,0 +1,52 @@
+//! [`Nbv`]: the next-best-view search of Algorithm 2 and its stopping rule.
+
+use serde::{Deserialize, Serialize};
+
+/// Viewpoints on a sphere of radius `r` around the object centroid at inclinations
+/// `θ = Δθ·i ≤ θ_max` and azimuths `φ = −π + Δφ·i` (eq. (3)), scored by
+/// `α_u·|O_u| + α_o·|O_o|` (eq. (4)); an object is done when the information gain
+/// (eq. (5)) of the latest view falls below `gain_threshold`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Nbv {
+    /// Viewing-sphere radius `r` (m). Default 0.3 (paper).
+    pub radius: f64,
+    /// Inclination step `Δθ` (degrees). Default 15.
+    pub dtheta_deg: f64,
+    /// Largest inclination `θ_max` (degrees from straight above). Default 75.
+    pub theta_max_deg: f64,
+    /// Azimuth step `Δφ` (degrees). Default 30.
+    pub dphi_deg: f64,
+    /// Weight `α_u` of unknown voxels. Default 4 (paper).
+    pub alpha_u: f64,
+    /// Weight `α_o` of occupied voxels. Default 1 (paper).
+    pub alpha_o: f64,
+    /// Stop an object when the gain of eq. (5) (nats) is below this. Default 5.0
+    /// (assumed; the paper does not give its value).
+    pub gain_threshold: f64,
+    /// Keep every n-th camera pixel along rows and columns for the predicted ray set `D`.
+    /// Default 8 (40 × 30 = 1200 rays).
+    pub ray_subsample: u32,
+    /// Discard candidates closer than this (m) to an already visited viewpoint.
+    /// Default 0.08 (about one Δθ step on the sphere).
+    pub visited_min_distance: f64,
+    /// Hard cap on short-range views per object. Default 10 (the paper averages 5–6).
+    pub max_views_per_object: u32,
+}
+
+impl Default for Nbv {
+    fn default() -> Self {
+        Self {
+            radius: 0.3,
+            dtheta_deg: 15.0,
+            theta_max_deg: 75.0,
+            dphi_deg: 30.0,
+            alpha_u: 4.0,
+            alpha_o: 1.0,
+            gain_threshold: 5.0,
+            ray_subsample: 8,
+            visited_min_distance: 0.08,
+            max_views_per_object: 10,
+        }
+    }
+}

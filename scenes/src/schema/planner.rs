@@ -1,0 +1,34 @@
+//! [`Planner`]: the joint-space bidirectional RRT and its post-processing.
+
+use serde::{Deserialize, Serialize};
+
+/// BiRRT parameters (OpenRAVE's defaults of the paper's era).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Planner {
+    /// Iterations per planning try. Default 4000.
+    pub max_iterations: u32,
+    /// Extension step in joint space (rad, max-norm). Default 0.04.
+    pub step_rad: f64,
+    /// Collision-check spacing along an edge (rad). Default 0.02.
+    pub edge_check_rad: f64,
+    /// Random shortcut attempts on a found path. Default 50.
+    pub shortcut_iterations: u32,
+    /// Probability of extending towards the goal. Default 0.05.
+    pub goal_bias: f64,
+    /// Tries per query before giving up. Default 3.
+    pub tries: u32,
+}
+
+impl Default for Planner {
+    fn default() -> Self {
+        Self {
+            max_iterations: 4000,
+            step_rad: 0.04,
+            edge_check_rad: 0.02,
+            shortcut_iterations: 50,
+            goal_bias: 0.05,
+            tries: 3,
+        }
+    }
+}

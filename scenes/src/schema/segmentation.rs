@@ -1,0 +1,42 @@
+//! [`Segmentation`]: outlier removal, table-plane extraction and Euclidean clustering of
+//! the mid-range cloud (the paper follows PCL; defaults are PCL tutorial values).
+
+use serde::{Deserialize, Serialize};
+
+/// Parameters of phase-1 segmentation into object clusters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Segmentation {
+    /// Voxel-grid downsampling leaf (m) before segmentation; 0 disables it. Default 0.005.
+    pub voxel: f64,
+    /// Neighbours per point in statistical outlier removal. Default 50.
+    pub outlier_k: u32,
+    /// A point is an outlier when its mean neighbour distance exceeds the global mean by
+    /// this many standard deviations. Default 1.0.
+    pub outlier_std: f64,
+    /// RANSAC inlier distance (m) of the dominant (table) plane. Default 0.01.
+    pub plane_distance: f64,
+    /// RANSAC iterations for the plane. Default 1000.
+    pub plane_iterations: u32,
+    /// Euclidean clustering (flood fill) distance (m). Default 0.02.
+    pub cluster_tolerance: f64,
+    /// Smallest cluster kept as an object (points). Default 100.
+    pub min_cluster_points: u32,
+    /// Largest cluster kept as an object (points). Default 25000.
+    pub max_cluster_points: u32,
+}
+
+impl Default for Segmentation {
+    fn default() -> Self {
+        Self {
+            voxel: 0.005,
+            outlier_k: 50,
+            outlier_std: 1.0,
+            plane_distance: 0.01,
+            plane_iterations: 1000,
+            cluster_tolerance: 0.02,
+            min_cluster_points: 100,
+            max_cluster_points: 25_000,
+        }
+    }
+}

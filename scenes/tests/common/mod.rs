@@ -1,0 +1,30 @@
+//! Helpers shared by the integration tests of nbv-scenes.
+
+#![allow(dead_code)]
+
+use nbv_scenes::Scene;
+use std::path::{Path, PathBuf};
+
+/// The robot's URDF (validation loads it as a kinematic model).
+pub fn fixture_urdf() -> PathBuf {
+    nbv_scenes::paths::normalize(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/urdf/comau_smart_six.urdf"),
+    )
+}
+
+/// A built-in scene's text with its robot URDF pointed at the fixture.
+pub fn builtin_text_with_fixture(name: &str) -> String {
+    nbv_scenes::builtin::text(name).unwrap().replace(
+        "\"../assets/urdf/comau_smart_six.urdf\"",
+        &format!("{:?}", fixture_urdf().display().to_string()),
+    )
+}
+
+/// Loads a built-in scene with the fixture URDF.
+pub fn builtin_with_fixture(name: &str) -> Result<Scene, nbv_scenes::SceneError> {
+    Scene::from_toml_str(
+        &builtin_text_with_fixture(name),
+        &nbv_scenes::builtin::base_dir(),
+        Path::new(&format!("{name}.toml")),
+    )
+}

@@ -1,0 +1,3 @@
+//! The subcommands of `nbv`, one module each.
+
+pub mod scene;
