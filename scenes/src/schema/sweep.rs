@@ -1,5 +1,6 @@
 //! [`Sweep`]: the phase-1 joint trajectory that carries the laser over the table.
 
+use nbv_core::kinematics::Joints;
 use serde::{Deserialize, Serialize};
 
 /// The mid-range observation (phase 1): the arm moves from home to the first waypoint
@@ -30,5 +31,20 @@ impl Default for Sweep {
             ],
             joint_speed_fraction: 0.12,
         }
+    }
+}
+
+impl Sweep {
+    /// The waypoints in radians.
+    ///
+    /// ```
+    /// let w = nbv_scenes::schema::Sweep::default().joint_waypoints();
+    /// assert!(w.len() >= 2);
+    /// ```
+    pub fn joint_waypoints(&self) -> Vec<Joints> {
+        self.waypoints_deg
+            .iter()
+            .map(|w| Joints::from_iterator(w.iter().map(|d| d.to_radians())))
+            .collect()
     }
 }
