@@ -15,6 +15,8 @@ pub mod cloud;
 pub mod kinematics;
 pub mod math;
 pub mod mesh;
+pub mod nbv;
 pub mod occupancy;
+pub mod planning;
 pub mod registration;
 pub mod rig;

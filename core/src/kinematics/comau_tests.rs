@@ -474,7 +474,11 @@ proptest! {
         let nearest = r.ik_nearest("dinast", &target, &q).unwrap();
         let (dp, dr) = pose_err(&r.fk(&nearest.joints, "dinast").unwrap(), &target);
         prop_assert!(dp < 1e-9 && dr < 1e-9);
-        prop_assert!((nearest.joints - q).norm() < 1e-6, "{:?} vs {q:?}", nearest.joints);
+        // Close to (but not at) the wrist singularity J4 and J6 are ill-conditioned: an
+        // error ε in the wrist's rotation moves them by about ε / sin(J5), so the exact
+        // pose (checked above) is reached by joints a little away from `q`.
+        let tol = if q[4] != 0.0 && q[4].sin().abs() < 1e-3 { 1e-2 } else { 1e-6 };
+        prop_assert!((nearest.joints - q).norm() < tol, "{:?} vs {q:?}", nearest.joints);
         if pick == 0 {
             prop_assert!(nearest.singularity.wrist);
         }

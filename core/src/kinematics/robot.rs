@@ -12,6 +12,7 @@ use super::serial_chain::{FrameError, SerialChain};
 use super::urdf_error::UrdfError;
 use super::urdf_loader::chain_from_urdf;
 use crate::math::Pose;
+use nalgebra::{Point3, Vector3};
 use std::path::Path;
 
 /// Slack on joint limits for solutions that land on a limit up to rounding (rad); such
@@ -185,6 +186,26 @@ impl Robot {
     pub fn body_of(&self, frame: &str) -> Result<usize, FrameError> {
         let index = self.chain.find(frame)?;
         Ok(self.chain.frames[index].attach)
+    }
+
+    /// The six joint axes at `q`, base to tip: the unit direction of each axis and a point
+    /// on it (the joint frame's origin, which lies on the axis and is fixed both in the
+    /// body before the joint and in the body after it), in the base frame.
+    ///
+    /// ```
+    /// # use nbv_core::kinematics::{Joints, Robot};
+    /// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+    /// let robot = Robot::from_urdf_file(path)?;
+    /// let axes = robot.joint_axes(&Joints::zeros());
+    /// // J1 about -z through the origin; J2 about +y through (0.15, 0, 0.45).
+    /// assert!((axes[0].0 + nalgebra::Vector3::z()).norm() < 1e-12);
+    /// assert!((axes[1].1 - nalgebra::Point3::new(0.15, 0.0, 0.45)).norm() < 1e-12);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn joint_axes(&self, q: &Joints) -> [(Vector3<f64>, Point3<f64>); DOF] {
+        self.chain
+            .joint_axes(q)
+            .map(|(axis, point)| (axis, Point3::from(point)))
     }
 
     /// Pose of `frame` relative to the tip link (`T_tip_frame`), for frames rigidly

@@ -1,0 +1,56 @@
+//! Next best view for the short-range sensor (the paper's section III-A, Algorithm 2 in
+//! Figure 3, eq. (3)–(5)).
+//!
+//! For one object:
+//! 1. [`ViewSphere`]: samples (θ, φ) on a sphere of radius r around the object's current
+//!    centroid (duplicates at φ = π and at the poles removed);
+//! 2. [`view_pose`]: the sensor pose of eq. (3) — checked to be a proper rotation whose z
+//!    axis points from the viewpoint to the centroid, used as the pose of the camera's
+//!    optical frame (`dinast`: z forward), see [`view_pose`]'s module notes;
+//! 3. [`NextBestView::viewpoints`]: drop samples close to a [`VisitedViews`] pose and those
+//!    without an IK solution for the sensor frame (optionally trying other rolls about the
+//!    optical axis);
+//! 4. [`visible_voxels`]: the predicted visible set O_v — the closest reduced-map voxel of
+//!    each ray of [`SensorRays`] (a subsampled Dinast pinhole ray set) within
+//!    [r_min, r_max] — by DDA; [`visible_voxels_literal`] is the paper's literal
+//!    every-ray-against-every-voxel loop and gives the same sets;
+//! 5. [`ScoreWeights`]: eq. (4), candidates sorted best first ([`NextBestView::candidates`]);
+//! 6. after the view was acquired and the grid updated: [`InformationGain`] (eq. (5) as
+//!    printed; its sign is discussed there — it is negative for views that hit surface)
+//!    and the [`StopRule`] (on eq. (5) by default, or on the Bernoulli KL divergence).
+//!
+//! # Deviations and choices
+//!
+//! - Eq. (3) is used as printed: it is a proper rotation (det = +1), no sign fix needed.
+//! - The paper's loop `i_φ = 0..=⌊2π/Δφ⌋` repeats φ = −π at φ = π when 2π/Δφ is whole;
+//!   the repeat is dropped, and at θ = 0 only one φ is kept (all φ give the same position
+//!   and axis). See [`ViewSphere`].
+//! - Defaults the paper does not give: Δθ = 15°, θ_max = 75°, Δφ = 30°, every 8th pixel,
+//!   visited thresholds 0.05 m / 20°, gain_thr = 0.5 (see each type).
+
+mod information_gain;
+mod nbv_error;
+mod sensor_rays;
+mod stop_rule;
+mod view_pose;
+mod view_score;
+mod view_sphere;
+mod viewpoint_list;
+mod visibility;
+mod visited_views;
+
+pub use information_gain::InformationGain;
+pub use nbv_error::NbvError;
+pub use sensor_rays::SensorRays;
+pub use stop_rule::{GainMeasure, StopReason, StopRule};
+pub use view_pose::{view_pose, view_pose_rolled, view_position, view_rotation};
+pub use view_score::ScoreWeights;
+pub use view_sphere::{SphereSample, ViewSphere};
+pub use viewpoint_list::{
+    Candidate, NbvParams, NextBestView, Viewpoint, ViewpointList, ViewpointSet, VisibilityForm,
+    sort_best_first,
+};
+pub use visibility::{
+    RayHit, VisibleVoxels, first_hit, first_hit_literal, visible_voxels, visible_voxels_literal,
+};
+pub use visited_views::VisitedViews;

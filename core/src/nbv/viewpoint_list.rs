@@ -1,0 +1,443 @@
+//! [`NextBestView`]: Algorithm 2 (ComputeViewpointList) — candidate viewpoints on the
+//! viewing sphere around the object's centroid, filtered by inverse kinematics and by the
+//! visited views, each with its predicted visible set O_v, sorted by eq. (4).
+
+use std::f64::consts::TAU;
+
+use nalgebra::Point3;
+use rayon::prelude::*;
+
+use super::{
+    NbvError, ScoreWeights, SensorRays, SphereSample, ViewSphere, VisibleVoxels, VisitedViews,
+    view_pose, view_pose_rolled, visible_voxels, visible_voxels_literal,
+};
+use crate::cloud::PointCloud;
+use crate::kinematics::{IkError, IkSolution, Robot};
+use crate::math::Pose;
+use crate::occupancy::ReducedMap;
+use crate::rig::DepthCameraSpec;
+
+/// Which implementation computes O_v (both give the same sets; see
+/// [`visibility`](super::visible_voxels)).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum VisibilityForm {
+    /// DDA through the dense lattice with the reduced map's bitsets.
+    #[default]
+    Dda,
+    /// Every ray against every voxel of M̄ (the paper's literal loop; slow).
+    Literal,
+}
+
+/// Parameters of Algorithm 2 besides the sensor.
+///
+/// Defaults: the paper's r = 0.3 m and (α_u, α_o) = (4, 1); Δθ = 15°, θ_max = 75°,
+/// Δφ = 30° (not given in the paper, see [`ViewSphere`]); every 8th Dinast pixel in u and
+/// v (1200 rays; the paper does not say how D was subsampled); one roll (eq. (3)'s).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NbvParams {
+    /// The viewing sphere.
+    pub sphere: ViewSphere,
+    /// The weights of eq. (4).
+    pub weights: ScoreWeights,
+    /// Keep every `ray_stride`-th pixel in u and v (≥ 1).
+    pub ray_stride: usize,
+    /// Rolls about the optical axis tried for reachability (≥ 1): roll k·2π/n for
+    /// k = 0..n, in that order, the first reachable one kept. 1 = eq. (3)'s roll only.
+    pub roll_candidates: usize,
+    /// How O_v is computed.
+    pub visibility: VisibilityForm,
+}
+
+impl Default for NbvParams {
+    fn default() -> Self {
+        Self {
+            sphere: ViewSphere::default(),
+            weights: ScoreWeights::default(),
+            ray_stride: 8,
+            roll_candidates: 1,
+            visibility: VisibilityForm::Dda,
+        }
+    }
+}
+
+/// A reachable viewpoint: its sample, the roll applied to eq. (3) and the sensor pose, with
+/// every IK solution that puts the sensor frame there (the planner's goals).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Viewpoint {
+    /// The (θ, φ) sample.
+    pub sample: SphereSample,
+    /// Roll about the optical axis applied to eq. (3)'s pose (rad).
+    pub roll: f64,
+    /// Sensor pose `T_base_sensor`.
+    pub pose: Pose,
+    /// IK solutions of the sensor frame at `pose` (non-empty).
+    pub solutions: Vec<IkSolution>,
+}
+
+/// A viewpoint with its predicted visible set and its score.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Candidate {
+    /// The viewpoint.
+    pub viewpoint: Viewpoint,
+    /// O_v.
+    pub visible: VisibleVoxels,
+    /// Eq. (4).
+    pub score: f64,
+}
+
+/// The reachable, unvisited viewpoints of one sphere (Algorithm 2, lines 1–10) and how many
+/// samples were dropped.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ViewpointSet {
+    /// Centre of the sphere.
+    pub centroid: Point3<f64>,
+    /// Kept viewpoints, in sample order.
+    pub viewpoints: Vec<Viewpoint>,
+    /// Samples on the sphere (after removing duplicates).
+    pub samples: usize,
+    /// Samples dropped as close to a visited view.
+    pub visited: usize,
+    /// Samples dropped because no roll had an IK solution.
+    pub unreachable: usize,
+}
+
+/// The output of Algorithm 2: candidates sorted best first, with the counts.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ViewpointList {
+    /// Centre of the sphere.
+    pub centroid: Point3<f64>,
+    /// Candidates by decreasing score; ties by (i_θ, i_φ).
+    pub candidates: Vec<Candidate>,
+    /// Samples on the sphere.
+    pub samples: usize,
+    /// Samples dropped as visited.
+    pub visited: usize,
+    /// Samples dropped as unreachable.
+    pub unreachable: usize,
+    /// Rays cast per candidate (|D|).
+    pub rays_per_view: usize,
+}
+
+impl ViewpointList {
+    /// Removes and returns the best remaining candidate (Algorithm 1's `pop_first`).
+    pub fn pop_first(&mut self) -> Option<Candidate> {
+        (!self.candidates.is_empty()).then(|| self.candidates.remove(0))
+    }
+}
+
+/// Algorithm 2 for one sensor: the sensor frame on the robot, its ray set D and the
+/// parameters.
+///
+/// ```
+/// use nbv_core::kinematics::Robot;
+/// use nbv_core::nbv::{NbvParams, NextBestView, VisitedViews};
+/// use nbv_core::occupancy::{GridGeometry, OccupancyGrid, OccupancyParams, ReducedMap};
+/// use nbv_core::rig::DepthCameraSpec;
+/// use nalgebra::Point3;
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+/// let robot = Robot::from_urdf_file(path)?;
+/// let camera = DepthCameraSpec {
+///     frame: "dinast".into(), range: [0.1, 0.8], width: 320, height: 240,
+///     hfov: 80f64.to_radians(),
+/// };
+/// let nbv = NextBestView::new(NbvParams::default(), &camera)?;
+/// // A grid where one voxel is occupied, the rest seen empty.
+/// let g = GridGeometry::new(Point3::new(0.5, -0.3, 0.2), Point3::new(1.1, 0.3, 0.6), 0.02)?;
+/// let mut values = vec![-1.0f32; g.len()];
+/// let centroid = Point3::new(0.81, 0.01, 0.31);
+/// values[g.linear(g.voxel_of(&centroid).unwrap()).unwrap()] = 1.0;
+/// let map = ReducedMap::from_grid(&OccupancyGrid::from_log_odds(g, OccupancyParams::default(), values)?);
+/// let list = nbv.candidates_around(&robot, &map, &centroid, &VisitedViews::default())?;
+/// assert_eq!(list.samples, 61);
+/// assert_eq!(list.samples, list.candidates.len() + list.unreachable + list.visited);
+/// // Every candidate looks at the centroid, so its central rays see the voxel.
+/// assert!(list.candidates.iter().all(|c| c.visible.occupied.len() == 1 && c.score == 1.0));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct NextBestView {
+    /// Parameters.
+    pub params: NbvParams,
+    /// The sensor frame on the robot (the camera spec's `frame`, e.g. `dinast`).
+    pub frame: String,
+    /// The predicted sensor's rays D and its range.
+    pub rays: SensorRays,
+}
+
+impl NextBestView {
+    /// Checks the parameters and builds D from the camera.
+    pub fn new(params: NbvParams, camera: &DepthCameraSpec) -> Result<Self, NbvError> {
+        params.sphere.validate()?;
+        params.weights.validate()?;
+        if params.roll_candidates == 0 {
+            return Err(NbvError::InvalidParameter {
+                name: "roll_candidates",
+                value: 0.0,
+                reason: "must be >= 1",
+            });
+        }
+        let rays = SensorRays::from_camera(camera, params.ray_stride)?;
+        Ok(Self {
+            params,
+            frame: camera.frame.clone(),
+            rays,
+        })
+    }
+
+    /// Lines 1–10: the sphere's samples around `centroid`, their poses by eq. (3), minus
+    /// those close to a visited view and those without an IK solution for the sensor frame
+    /// (IK failures other than "unreachable" — an unknown frame, an unsupported robot —
+    /// are errors; a pose whose closed-form solutions cannot be polished counts as
+    /// unreachable).
+    pub fn viewpoints(
+        &self,
+        robot: &Robot,
+        centroid: &Point3<f64>,
+        visited: &VisitedViews,
+    ) -> Result<ViewpointSet, NbvError> {
+        if !centroid.iter().all(|v| v.is_finite()) {
+            return Err(NbvError::InvalidInput("object centroid is not finite"));
+        }
+        visited.validate()?;
+        let samples = self.params.sphere.samples()?;
+        let outcomes = samples
+            .par_iter()
+            .map(|s| self.viewpoint(robot, centroid, visited, s))
+            .collect::<Result<Vec<_>, NbvError>>()?;
+        let mut set = ViewpointSet {
+            centroid: *centroid,
+            viewpoints: Vec::new(),
+            samples: samples.len(),
+            visited: 0,
+            unreachable: 0,
+        };
+        for o in outcomes {
+            match o {
+                SampleOutcome::Kept(v) => set.viewpoints.push(v),
+                SampleOutcome::Visited => set.visited += 1,
+                SampleOutcome::Unreachable => set.unreachable += 1,
+            }
+        }
+        Ok(set)
+    }
+
+    fn viewpoint(
+        &self,
+        robot: &Robot,
+        centroid: &Point3<f64>,
+        visited: &VisitedViews,
+        sample: &SphereSample,
+    ) -> Result<SampleOutcome, NbvError> {
+        let base = view_pose(
+            centroid,
+            self.params.sphere.radius,
+            sample.theta,
+            sample.phi,
+        );
+        // Position and optical axis do not depend on the roll.
+        if visited.is_close(&base) {
+            return Ok(SampleOutcome::Visited);
+        }
+        let n = self.params.roll_candidates;
+        for k in 0..n {
+            let roll = TAU * k as f64 / n as f64;
+            let pose = view_pose_rolled(&base, roll);
+            match robot.ik(&self.frame, &pose) {
+                Ok(solutions) => {
+                    return Ok(SampleOutcome::Kept(Viewpoint {
+                        sample: *sample,
+                        roll,
+                        pose,
+                        solutions,
+                    }));
+                }
+                Err(IkError::Unreachable(_) | IkError::NotConverged { .. }) => {}
+                Err(e) => return Err(e.into()),
+            }
+        }
+        Ok(SampleOutcome::Unreachable)
+    }
+
+    /// Lines 11–24 for one viewpoint: O_v and eq. (4).
+    pub fn evaluate(&self, map: &ReducedMap, viewpoint: Viewpoint) -> Result<Candidate, NbvError> {
+        let visible = match self.params.visibility {
+            VisibilityForm::Dda => visible_voxels(map, &viewpoint.pose, &self.rays)?,
+            VisibilityForm::Literal => visible_voxels_literal(map, &viewpoint.pose, &self.rays)?,
+        };
+        let score = self.params.weights.score(&visible);
+        Ok(Candidate {
+            viewpoint,
+            visible,
+            score,
+        })
+    }
+
+    /// Algorithm 2 around a given centroid: viewpoints, O_v of each (in parallel), sorted by
+    /// eq. (4) best first (line 26), ties by (i_θ, i_φ).
+    pub fn candidates_around(
+        &self,
+        robot: &Robot,
+        map: &ReducedMap,
+        centroid: &Point3<f64>,
+        visited: &VisitedViews,
+    ) -> Result<ViewpointList, NbvError> {
+        let set = self.viewpoints(robot, centroid, visited)?;
+        let mut candidates = set
+            .viewpoints
+            .into_par_iter()
+            .map(|v| self.evaluate(map, v))
+            .collect::<Result<Vec<_>, NbvError>>()?;
+        sort_best_first(&mut candidates);
+        Ok(ViewpointList {
+            centroid: set.centroid,
+            candidates,
+            samples: set.samples,
+            visited: set.visited,
+            unreachable: set.unreachable,
+            rays_per_view: self.rays.len(),
+        })
+    }
+
+    /// Algorithm 2 as printed: the sphere around the centroid of the object's cloud (all
+    /// its views so far, line 1).
+    pub fn candidates(
+        &self,
+        robot: &Robot,
+        map: &ReducedMap,
+        object: &PointCloud,
+        visited: &VisitedViews,
+    ) -> Result<ViewpointList, NbvError> {
+        let centroid = object
+            .centroid()
+            .ok_or(NbvError::InvalidInput("the object cloud is empty"))?;
+        self.candidates_around(robot, map, &centroid, visited)
+    }
+}
+
+enum SampleOutcome {
+    Kept(Viewpoint),
+    Visited,
+    Unreachable,
+}
+
+/// Sorts by decreasing score, ties by increasing (i_θ, i_φ).
+pub fn sort_best_first(candidates: &mut [Candidate]) {
+    candidates.sort_by(|a, b| {
+        b.score.total_cmp(&a.score).then_with(|| {
+            let key = |c: &Candidate| (c.viewpoint.sample.i_theta, c.viewpoint.sample.i_phi);
+            key(a).cmp(&key(b))
+        })
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn candidate(i_theta: usize, i_phi: usize, unknown: usize, occupied: usize) -> Candidate {
+        let visible = VisibleVoxels {
+            unknown: (0..unknown).collect(),
+            occupied: (100..100 + occupied).collect(),
+            ..VisibleVoxels::default()
+        };
+        Candidate {
+            viewpoint: Viewpoint {
+                sample: SphereSample {
+                    i_theta,
+                    i_phi,
+                    theta: 0.0,
+                    phi: 0.0,
+                },
+                roll: 0.0,
+                pose: Pose::identity(),
+                solutions: Vec::new(),
+            },
+            score: ScoreWeights::default().score(&visible),
+            visible,
+        }
+    }
+
+    #[test]
+    fn best_first_with_index_ties() {
+        // Scores: 4·2 + 1 = 9, 4·1 + 5 = 9, 4·3 = 12, 4·0 + 9 = 9, 0.
+        let mut c = vec![
+            candidate(2, 5, 2, 1),
+            candidate(1, 7, 1, 5),
+            candidate(3, 0, 3, 0),
+            candidate(1, 2, 0, 9),
+            candidate(0, 0, 0, 0),
+        ];
+        sort_best_first(&mut c);
+        let order: Vec<_> = c
+            .iter()
+            .map(|x| {
+                (
+                    x.score,
+                    x.viewpoint.sample.i_theta,
+                    x.viewpoint.sample.i_phi,
+                )
+            })
+            .collect();
+        assert_eq!(
+            order,
+            vec![
+                (12.0, 3, 0),
+                (9.0, 1, 2),
+                (9.0, 1, 7),
+                (9.0, 2, 5),
+                (0.0, 0, 0)
+            ]
+        );
+        let mut list = ViewpointList {
+            centroid: Point3::origin(),
+            candidates: c,
+            samples: 5,
+            visited: 0,
+            unreachable: 0,
+            rays_per_view: 0,
+        };
+        assert_eq!(list.pop_first().unwrap().score, 12.0);
+        assert_eq!(list.candidates.len(), 4);
+    }
+
+    #[test]
+    fn invalid_parameters() {
+        let camera = DepthCameraSpec {
+            frame: "dinast".into(),
+            range: [0.1, 0.8],
+            width: 320,
+            height: 240,
+            hfov: 80f64.to_radians(),
+        };
+        let d = NbvParams::default();
+        for bad in [
+            NbvParams {
+                roll_candidates: 0,
+                ..d
+            },
+            NbvParams { ray_stride: 0, ..d },
+            NbvParams {
+                weights: ScoreWeights {
+                    unknown: -1.0,
+                    occupied: 1.0,
+                },
+                ..d
+            },
+            NbvParams {
+                sphere: ViewSphere {
+                    radius: -0.3,
+                    ..d.sphere
+                },
+                ..d
+            },
+        ] {
+            assert!(matches!(
+                NextBestView::new(bad, &camera),
+                Err(NbvError::InvalidParameter { .. })
+            ));
+        }
+        let nbv = NextBestView::new(d, &camera).unwrap();
+        assert_eq!(nbv.rays.len(), 1200);
+        assert_eq!(nbv.frame, "dinast");
+    }
+}

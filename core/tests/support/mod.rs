@@ -1,0 +1,5 @@
+//! Shared fixtures of the NBV and planning tests (the scene is also included by the
+//! benches).
+
+pub mod brute_force;
+pub mod scene;
