@@ -323,10 +323,17 @@ mod tests {
             ]),
         };
         let base = Isometry3::identity();
-        let cloud = lines_to_cloud(std::slice::from_ref(&line), &motion, &robot, &base, &spec()).unwrap();
+        let cloud =
+            lines_to_cloud(std::slice::from_ref(&line), &motion, &robot, &base, &spec()).unwrap();
         assert_eq!(cloud.len(), 2);
         assert!(cloud.labels.is_none() && cloud.truth.is_none());
-        let err = lines_to_cloud(std::slice::from_ref(&line), &Motion::default(), &robot, &base, &spec());
+        let err = lines_to_cloud(
+            std::slice::from_ref(&line),
+            &Motion::default(),
+            &robot,
+            &base,
+            &spec(),
+        );
         assert_eq!(err, Err(SensorCloudError::EmptyMotion { lines: 1 }));
         let mut bad = spec();
         bad.frame = "nope".into();
