@@ -12,10 +12,14 @@ mod arm;
 mod depth_camera;
 mod line_scanner;
 mod rig_error;
+mod sensor_cloud;
+mod sweep;
 mod truth;
 
 pub use arm::{Arm, JointPath, Motion, TimedJoints};
 pub use depth_camera::{DepthCamera, DepthCameraSpec, DepthFrame};
 pub use line_scanner::{LineScanner, LineScannerSpec, ScanLine};
 pub use rig_error::RigError;
+pub use sensor_cloud::{SensorCloudError, depth_frame_to_cloud, lines_to_cloud, sensor_pose};
+pub use sweep::{SweepData, acquire_sweep};
 pub use truth::{TruthHit, TruthLabel};

@@ -1,6 +1,7 @@
 //! [`Sensors`]: the mid-range line scanner (SICK LMS400) and the short-range depth camera
 //! (Dinast IPA-1110), with their noise models.
 
+use nbv_core::rig::{DepthCameraSpec, LineScannerSpec};
 use serde::{Deserialize, Serialize};
 
 /// Both eye-in-hand sensors (`[sensors.mid_range]`, `[sensors.short_range]`).
@@ -41,6 +42,25 @@ impl Default for MidRangeSensor {
             resolution_deg: 0.25,
             line_rate_hz: 190.0,
             noise: LaserNoise::default(),
+        }
+    }
+}
+
+impl MidRangeSensor {
+    /// The rig-level spec (angles in radians) the pipeline and the twin use.
+    ///
+    /// ```
+    /// let spec = nbv_scenes::schema::MidRangeSensor::default().spec();
+    /// assert_eq!(spec.beams(), 281);
+    /// assert_eq!(spec.range, [0.7, 3.0]);
+    /// ```
+    pub fn spec(&self) -> LineScannerSpec {
+        LineScannerSpec {
+            frame: self.frame.clone(),
+            range: self.range,
+            fov: self.fov_deg.to_radians(),
+            resolution: self.resolution_deg.to_radians(),
+            line_rate_hz: self.line_rate_hz,
         }
     }
 }
@@ -92,6 +112,27 @@ impl Default for ShortRangeSensor {
             height: 240,
             frame_rate_hz: 30.0,
             noise: CameraNoise::default(),
+        }
+    }
+}
+
+impl ShortRangeSensor {
+    /// The rig-level spec (pinhole, horizontal field of view in radians) the pipeline and
+    /// the twin use.
+    ///
+    /// ```
+    /// let spec = nbv_scenes::schema::ShortRangeSensor::default().spec();
+    /// assert_eq!((spec.width, spec.height), (320, 240));
+    /// // 80° across 320 pixels: f = 160 / tan(40°).
+    /// assert!((spec.focal() - 160.0 / 40f64.to_radians().tan()).abs() < 1e-9);
+    /// ```
+    pub fn spec(&self) -> DepthCameraSpec {
+        DepthCameraSpec {
+            frame: self.frame.clone(),
+            range: self.range,
+            width: self.width as usize,
+            height: self.height as usize,
+            hfov: self.fov_deg.to_radians(),
         }
     }
 }

@@ -1,5 +1,6 @@
 //! [`Sweep`]: the phase-1 joint trajectory that carries the laser over the table.
 
+use nbv_core::kinematics::Joints;
 use serde::{Deserialize, Serialize};
 
 /// The mid-range observation (phase 1): the arm moves from home to the first waypoint
@@ -10,14 +11,17 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Sweep {
-    /// Joint waypoints J1..J6 (degrees), at least two. Default: forearm raised
-    /// (J2 = −30°, J3 = −90°), the wrist pitching J5 from 120° to 75° so the scan line
-    /// travels from the front edge of the table to the back (≈ 1.0–1.5 m from the laser,
-    /// inside its 0.7–3.0 m range). An estimate to be confirmed with forward kinematics.
+    /// Joint waypoints J1..J6 (degrees), at least two. Default: upper arm leaning back
+    /// (J2 = −40°), forearm horizontal (J3 = −90°), the wrist pitching J5 from 112° to 84°,
+    /// so the laser, about 1.2 m above the floor and 0.35 m in front of the base axis,
+    /// carries its line from x ≈ 0.6 m on the table to the back obstacles at 0.85–1.5 m range
+    /// (inside its 0.7–3.0 m). Checked in the twin: collision-free from the home
+    /// configuration and along the sweep (J5 beyond ≈ 115° folds the sensor bracket onto
+    /// the forearm).
     pub waypoints_deg: Vec<[f64; 6]>,
-    /// Fraction (0, 1] of each joint's maximum speed. Default 0.12: the 45° wrist sweep
-    /// (J5 at up to 375°/s) takes ≈ 1 s, ≈ 190 lines of 281 rays, close to the paper's
-    /// ~55K-point raw cloud.
+    /// Fraction (0, 1] of each joint's maximum speed. Default 0.06: the 28° wrist sweep (J5
+    /// at up to 375°/s) takes 1.24 s, 237 lines of 281 rays, ≈ 57K points on the paper
+    /// scenes (the paper's raw cloud: ~55K points).
     pub joint_speed_fraction: f64,
 }
 
@@ -25,10 +29,25 @@ impl Default for Sweep {
     fn default() -> Self {
         Self {
             waypoints_deg: vec![
-                [0.0, -30.0, -90.0, 0.0, 120.0, 0.0],
-                [0.0, -30.0, -90.0, 0.0, 75.0, 0.0],
+                [0.0, -40.0, -90.0, 0.0, 112.0, 0.0],
+                [0.0, -40.0, -90.0, 0.0, 84.0, 0.0],
             ],
-            joint_speed_fraction: 0.12,
+            joint_speed_fraction: 0.06,
         }
+    }
+}
+
+impl Sweep {
+    /// The waypoints in radians.
+    ///
+    /// ```
+    /// let w = nbv_scenes::schema::Sweep::default().joint_waypoints();
+    /// assert!(w.len() >= 2);
+    /// ```
+    pub fn joint_waypoints(&self) -> Vec<Joints> {
+        self.waypoints_deg
+            .iter()
+            .map(|w| Joints::from_iterator(w.iter().map(|d| d.to_radians())))
+            .collect()
     }
 }

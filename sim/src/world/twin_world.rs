@@ -286,6 +286,20 @@ impl TwinWorld {
         out
     }
 
+    /// World-frame bounding spheres `(body, centre, radius)` of the robot's colliders at
+    /// the current configuration; `body` is the collider's [`Robot::body_of`] number.
+    pub fn robot_bounding_spheres(&self) -> Vec<(usize, nalgebra::Point3<f64>, f64)> {
+        self.robot_colliders
+            .iter()
+            .map(|rc| {
+                let co = &self.colliders[rc.handle];
+                let s = co.shape().compute_bounding_sphere(co.position());
+                let c = crate::convert::from_rapier_vector(s.center);
+                (rc.body, nalgebra::Point3::from(c), f64::from(s.radius))
+            })
+            .collect()
+    }
+
     /// The label a collider reports when hit by a ray.
     pub(crate) fn label_of(&self, h: ColliderHandle) -> Option<(TruthLabel, usize)> {
         match self.owners.get(&h)? {

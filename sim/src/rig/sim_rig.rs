@@ -1,0 +1,161 @@
+//! [`SimRig`]: the simulated rig — a [`SimArm`], a [`SimLineScanner`] and a
+//! [`SimDepthCamera`] implementing nbv-core's rig traits over one shared
+//! [`TwinState`] (`Rc<RefCell<…>>`: the three devices are separate values, as on the real
+//! rig, and the pipeline may hold them separately; they are not `Send`).
+//!
+//! - The arm is position-controlled: [`Arm::execute`] follows the path at `speed_fraction`
+//!   of each joint's velocity limit with synchronised segments (see the timing law in
+//!   `timed_path`), advancing the simulated clock. Every configuration along the path is
+//!   checked against the *true* world (true joints = reported + offset) in steps that move
+//!   no collider point more than [`CHECK_STEP`](super::CHECK_STEP); at the first contact
+//!   it returns [`RigError::Collision`] and stays at the last configuration found free.
+//!   Waypoints outside the joint limits are refused before moving. The reported
+//!   [`Motion`] holds samples at [`MOTION_SAMPLE_RATE_HZ`](super::MOTION_SAMPLE_RATE_HZ)
+//!   plus every waypoint arrival.
+//! - The line scanner streams between `start` and `stop`: line `k` is due at
+//!   `t_start + k / line_rate`, and every line due while the clock advances (arm motion,
+//!   camera frames) is cast from the true sensor pose at its time.
+//! - The depth camera captures at the current true pose; the clock advances one frame
+//!   period.
+//!
+//! ```no_run
+//! use nbv_core::rig::{Arm, DepthCamera, JointPath, LineScanner};
+//! let scene = nbv_scenes::builtin::load("paper-env1")?;
+//! let mut rig = nbv_sim::rig::SimRig::from_scene(&scene)?;
+//! let q0 = rig.arm.joints()?;
+//! rig.scanner.start()?;
+//! let motion = rig.arm.execute(&JointPath { waypoints: vec![q0], speed_fraction: 0.1 })?;
+//! let lines = rig.scanner.stop()?;
+//! let frame = rig.camera.capture()?;
+//! assert_eq!(frame.width, 320);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use super::twin_state::{RigConfig, TwinState, UnknownSensorFrame};
+use crate::world::{SceneWorldError, TwinWorld};
+use nbv_core::kinematics::Joints;
+use nbv_core::rig::{
+    Arm, DepthCamera, DepthCameraSpec, DepthFrame, JointPath, LineScanner, LineScannerSpec, Motion,
+    RigError, ScanLine,
+};
+use std::cell::{Ref, RefCell};
+use std::rc::Rc;
+
+type Shared = Rc<RefCell<TwinState>>;
+
+/// The simulated arm.
+pub struct SimArm {
+    state: Shared,
+}
+
+/// The simulated LMS400.
+pub struct SimLineScanner {
+    state: Shared,
+    spec: LineScannerSpec,
+}
+
+/// The simulated Dinast camera.
+pub struct SimDepthCamera {
+    state: Shared,
+    spec: DepthCameraSpec,
+}
+
+/// The three simulated devices and their shared state.
+pub struct SimRig {
+    /// The arm.
+    pub arm: SimArm,
+    /// The mid-range line scanner.
+    pub scanner: SimLineScanner,
+    /// The short-range depth camera.
+    pub camera: SimDepthCamera,
+    state: Shared,
+}
+
+/// Why a simulated rig could not be built from a scene.
+#[derive(Debug, thiserror::Error)]
+pub enum SimRigError {
+    /// The twin world could not be built.
+    #[error(transparent)]
+    World(#[from] SceneWorldError),
+    /// A sensor names a frame the robot does not have.
+    #[error(transparent)]
+    Frame(#[from] UnknownSensorFrame),
+}
+
+impl SimRig {
+    /// A rig in `world`; the arm reports the world's current configuration.
+    pub fn new(world: TwinWorld, config: RigConfig) -> Result<Self, UnknownSensorFrame> {
+        let laser = config.laser.spec.clone();
+        let camera = config.camera.spec.clone();
+        let state = Rc::new(RefCell::new(TwinState::new(world, config)?));
+        Ok(Self {
+            arm: SimArm {
+                state: state.clone(),
+            },
+            scanner: SimLineScanner {
+                state: state.clone(),
+                spec: laser,
+            },
+            camera: SimDepthCamera {
+                state: state.clone(),
+                spec: camera,
+            },
+            state,
+        })
+    }
+
+    /// The rig of a (validated) scene: its twin world, sensors, error model and seed; the
+    /// arm at the scene's home configuration.
+    pub fn from_scene(scene: &nbv_scenes::Scene) -> Result<Self, SimRigError> {
+        let world = TwinWorld::from_scene(scene)?;
+        Ok(Self::new(world, RigConfig::from_scene(scene))?)
+    }
+
+    /// The shared state, for evaluation (true poses, the world). Do not hold the borrow
+    /// across device calls.
+    pub fn state(&self) -> Ref<'_, TwinState> {
+        self.state.borrow()
+    }
+}
+
+impl SimArm {
+    /// Places the arm at `q` (reported joints) instantly, without checking the way there;
+    /// refused if `q` is outside the joint limits or in contact (the arm then stays).
+    pub fn teleport(&mut self, q: Joints) -> Result<(), RigError> {
+        self.state.borrow_mut().teleport(q)
+    }
+}
+
+impl Arm for SimArm {
+    fn joints(&mut self) -> Result<Joints, RigError> {
+        Ok(self.state.borrow().reported_joints())
+    }
+
+    fn execute(&mut self, path: &JointPath) -> Result<Motion, RigError> {
+        self.state.borrow_mut().execute(path)
+    }
+}
+
+impl LineScanner for SimLineScanner {
+    fn spec(&self) -> &LineScannerSpec {
+        &self.spec
+    }
+
+    fn start(&mut self) -> Result<(), RigError> {
+        self.state.borrow_mut().start_stream()
+    }
+
+    fn stop(&mut self) -> Result<Vec<ScanLine>, RigError> {
+        self.state.borrow_mut().stop_stream()
+    }
+}
+
+impl DepthCamera for SimDepthCamera {
+    fn spec(&self) -> &DepthCameraSpec {
+        &self.spec
+    }
+
+    fn capture(&mut self) -> Result<DepthFrame, RigError> {
+        Ok(self.state.borrow_mut().capture())
+    }
+}
