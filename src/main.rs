@@ -17,6 +17,10 @@ struct Cli {
 enum Command {
     /// Scene files: validate, describe, generate random scenes, write the object meshes.
     Scene(cli::scene::SceneArgs),
+    /// Phase 1 on a mid-range cloud: object clusters, occupancy grid and reduced map.
+    Map(cli::map::MapArgs),
+    /// PNG pictures of a scene, of point clouds, or of an occupancy map (headless).
+    Render(cli::render::RenderArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -26,6 +30,8 @@ fn main() -> std::process::ExitCode {
         .init();
     let result = match Cli::parse().command {
         Command::Scene(args) => cli::scene::run(args),
+        Command::Map(args) => cli::map::run(args),
+        Command::Render(args) => cli::render::run(args),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -16,5 +16,6 @@ pub mod kinematics;
 pub mod math;
 pub mod mesh;
 pub mod occupancy;
+pub mod perception;
 pub mod registration;
 pub mod rig;

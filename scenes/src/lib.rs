@@ -27,6 +27,7 @@ pub mod generator;
 pub mod mesh_distance;
 pub mod meshgen;
 pub mod paths;
+pub mod pipeline_params;
 pub mod placed;
 pub mod reachability;
 pub mod scene;
