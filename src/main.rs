@@ -25,7 +25,12 @@ enum Command {
 
 fn main() -> std::process::ExitCode {
     tracing_subscriber::fmt()
-        .with_env_filter(tracing_subscriber::EnvFilter::from_default_env())
+        // RUST_LOG overrides; by default warnings, but not wgpu-hal's complaints about
+        // backends it probes and drops (a missing adapter is reported as an error anyway).
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env()
+                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("warn,wgpu_hal=off")),
+        )
         .with_writer(std::io::stderr)
         .init();
     let result = match Cli::parse().command {

@@ -70,8 +70,9 @@ fn two_boxes_give_two_clusters_and_the_files() {
         .sum();
     assert!((shares - 1.0).abs() < 1e-12);
     let table = &s["segmentation"]["table"];
-    assert!((table["normal"][2].as_f64().unwrap() - 1.0).abs() < 1e-6);
-    assert!((table["offset"].as_f64().unwrap() + 0.25).abs() < 1e-6);
+    // Least squares over the inliers, which include the boxes' lowest centimetre.
+    assert!(table["normal"][2].as_f64().unwrap() > 0.9999, "{table}");
+    assert!((table["offset"].as_f64().unwrap() + 0.25).abs() < 1e-3, "{table}");
 
     // The grid file: same geometry and the same counts as stats.json.
     let grid = OccupancyGrid::load(out.join("grid.nbvgrid")).unwrap();

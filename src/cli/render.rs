@@ -4,12 +4,11 @@
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
-use nalgebra::Point3;
 use nbv_core::cloud::io::read_cloud;
 use nbv_core::occupancy::{OccupancyGrid, ReducedMap};
 use nbv_sim::render::{
-    Camera, Color, PointSet, RenderScene, Renderer, front_and_back, map_items,
-    save_png, scene_items, workspace_bounds,
+    Camera, Color, PointSet, RenderScene, Renderer, fitted_front_and_back, front_and_back,
+    map_items, save_png, scene_items,
 };
 use std::path::{Path, PathBuf};
 
@@ -98,9 +97,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
         } => {
             let s = super::scene::load(&scene)?;
             let items = scene_items(&s).with_context(|| format!("drawing {scene}"))?;
-            let (lo, hi) = workspace_bounds(&s);
             let renderer = renderer()?;
-            draw_pair(&renderer, &items, (lo, hi), size, &output, back.as_deref())
+            let cameras = fitted_front_and_back(&items, size.aspect());
+            draw_pair(&renderer, &items, cameras, size, &output, back.as_deref())
         }
         RenderCommand::Cloud {
             clouds,
@@ -127,11 +126,12 @@ pub fn run(args: RenderArgs) -> Result<()> {
                 );
                 items.add_points(PointSet::uniform(cloud.points, color, point_size));
             }
-            let Some((lo, hi)) = items.bounds() else {
+            if items.bounds().is_none() {
                 bail!("the clouds have no points to draw");
-            };
+            }
             let renderer = renderer()?;
-            draw_pair(&renderer, &items, (lo, hi), size, &output, back.as_deref())
+            let cameras = fitted_front_and_back(&items, size.aspect());
+            draw_pair(&renderer, &items, cameras, size, &output, back.as_deref())
         }
         RenderCommand::Map {
             mapdir,
@@ -152,10 +152,11 @@ pub fn run(args: RenderArgs) -> Result<()> {
             );
             let g = grid.geometry();
             let renderer = renderer()?;
+            let cameras = front_and_back(g.min(), g.max(), size.aspect());
             draw_pair(
                 &renderer,
                 &map_items(&reduced),
-                (g.min(), g.max()),
+                cameras,
                 size,
                 &output,
                 back.as_deref(),
@@ -169,16 +170,15 @@ fn renderer() -> Result<Renderer> {
     Renderer::new().context("`nbv render` needs a GPU or Mesa's software drivers")
 }
 
-/// Draws `items` with the default front (and, if asked, back) camera framing `bounds`.
+/// Draws `items` seen by the front camera (and, if asked, by the back one).
 fn draw_pair(
     renderer: &Renderer,
     items: &RenderScene,
-    bounds: (Point3<f64>, Point3<f64>),
+    (front, back): (Camera, Camera),
     size: Size,
     front_path: &Path,
     back_path: Option<&Path>,
 ) -> Result<()> {
-    let (front, back) = front_and_back(bounds.0, bounds.1, size.aspect());
     draw(renderer, items, &front, size, front_path)?;
     if let Some(p) = back_path {
         draw(renderer, items, &back, size, p)?;
@@ -220,7 +220,7 @@ pub fn map_pictures_or_warn(grid: &OccupancyGrid, reduced: &ReducedMap, front: &
     if let Err(e) = draw_pair(
         &renderer,
         &map_items(reduced),
-        (g.min(), g.max()),
+        front_and_back(g.min(), g.max(), size.aspect()),
         size,
         front,
         Some(back),

@@ -62,8 +62,9 @@ pub use point_set::{CloudColoring, PointSet};
 pub use render_scene::RenderScene;
 pub use renderer::{Renderer, RendererOptions};
 pub use scene_items::{
-    OBSTACLE_COLOR, ROBOT_COLOR, SceneItemsError, TABLE_COLOR, UNKNOWN_OBSTACLE_COLOR,
-    WORKSPACE_COLOR, front_and_back, object_color, robot_items, scene_items, workspace_bounds,
+    BACK_AZIMUTH, FRONT_AZIMUTH, OBSTACLE_COLOR, ROBOT_COLOR, SceneItemsError, TABLE_COLOR,
+    UNKNOWN_OBSTACLE_COLOR, VIEW_ELEVATION, WORKSPACE_COLOR, fitted_front_and_back,
+    front_and_back, object_color, robot_items, scene_items, workspace_bounds,
 };
 pub use voxel_set::VoxelSet;
 /// wgpu's backend flags, for [`RendererOptions::backends`].

@@ -52,10 +52,10 @@ pub enum SceneItemsError {
     },
 }
 
-/// The colour of object `i` in scene pictures: the categorical palette, so that the
-/// clusters and views of object `i` can share it.
+/// The colour of object `i` in scene pictures: the categorical palette from its second
+/// colour on (its first, a steel blue, is too close to the robot's Comau blue).
 pub fn object_color(i: usize) -> Color {
-    Color::categorical(i)
+    Color::categorical(i + 1)
 }
 
 /// The robot's links at configuration `q` with the robot mounted at `base`, from the
@@ -216,6 +216,34 @@ pub fn workspace_bounds(scene: &Scene) -> (Point3<f64>, Point3<f64>) {
     (
         Point3::from(scene.workspace.min),
         Point3::from(scene.workspace.max),
+    )
+}
+
+/// Azimuth of [`fitted_front_and_back`]'s front camera: from the robot's side and to the
+/// left, so that the arm does not hide the table.
+pub const FRONT_AZIMUTH: f64 = std::f64::consts::PI - 0.8;
+/// Azimuth of [`fitted_front_and_back`]'s back camera: from behind and to the right.
+pub const BACK_AZIMUTH: f64 = -0.8;
+/// Elevation of [`fitted_front_and_back`]'s cameras.
+pub const VIEW_ELEVATION: f64 = 0.55;
+
+/// Cameras that frame everything `items` draws as tightly as fits an image of aspect
+/// `width / height`, from the front-left ([`FRONT_AZIMUTH`]) and from the back-right
+/// ([`BACK_AZIMUTH`]): for scenes with the robot, and for point clouds.
+///
+/// ```
+/// use nbv_sim::render::{Color, LineSet, RenderScene, fitted_front_and_back};
+/// use nalgebra::Point3;
+/// let mut items = RenderScene::new();
+/// items.add_lines(LineSet::aabb(Point3::origin(), Point3::new(1.0, 1.0, 0.5), Color::BLACK, 1.0));
+/// let (front, back) = fitted_front_and_back(&items, 4.0 / 3.0);
+/// assert!(front.eye.x < 0.0 && back.eye.x > 1.0);
+/// ```
+pub fn fitted_front_and_back(items: &RenderScene, aspect: f64) -> (Camera, Camera) {
+    let points = items.outline_points();
+    (
+        Camera::fit(&points, FRONT_AZIMUTH, VIEW_ELEVATION, aspect),
+        Camera::fit(&points, BACK_AZIMUTH, VIEW_ELEVATION, aspect),
     )
 }
 
