@@ -1,3 +1,5 @@
 //! The subcommands of `nbv`, one module each.
 
+pub mod map;
+pub mod render;
 pub mod scene;
