@@ -16,5 +16,5 @@ pub mod kinematics;
 pub mod math;
 pub mod mesh;
 pub mod occupancy;
-pub mod rig;
 pub mod registration;
+pub mod rig;

@@ -14,7 +14,10 @@
 //!    view (in parallel), the rigid transform moving its set members, in the view's own
 //!    frame, onto the centroids — all views against the same centroids — then new
 //!    centroids, repeated until the residual settles (same `tolerance`) or
-//!    `max_inner_iterations` fits were made (1 gives a single fit per outer iteration).
+//!    `max_inner_iterations` fits were made (1 gives a single fit per outer iteration);
+//! 6. stop if that update turns no view relative to the reference view by more than
+//!    `rotation_tolerance` and moves no view's point centroid by more than
+//!    `translation_tolerance` (the poses of step 1 are returned), else take it.
 //!
 //! A view without three non-collinear set members keeps its pose for that fit. The
 //! residual and the report always describe the returned poses. Afterwards the gauge is
@@ -65,6 +68,7 @@ pub(crate) fn run(
     let anchor_inv = anchor.inverse();
     // Work in the reference view's initial frame.
     let mut poses: Vec<Pose> = initial.iter().map(|p| anchor_inv * p).collect();
+    let view_centroids: Vec<Point3<f64>> = trees.iter().map(ViewTree::centroid).collect();
     let mut history = Vec::new();
     let mut iterations = 0;
     let mut inner_iterations = 0;
@@ -81,10 +85,17 @@ pub(crate) fn run(
         if iterations == params.max_iterations {
             break (corr, Some(mse), StopReason::MaxIterations);
         }
-        let Some(inner) = consensus(&trees, &corr, centroids, mse, &mut poses, params) else {
+        let mut updated = poses.clone();
+        let Some(inner) = consensus(&trees, &corr, centroids, mse, &mut updated, params) else {
             break (corr, Some(mse), StopReason::Degenerate);
         };
         inner_iterations += inner;
+        // The update is negligible: the poses measured above are the result.
+        let (rotation, translation) = largest_step(&poses, &updated, reference, &view_centroids);
+        if rotation <= params.rotation_tolerance && translation <= params.translation_tolerance {
+            break (corr, Some(mse), StopReason::Converged);
+        }
+        poses = updated;
         iterations += 1;
     };
 
@@ -268,6 +279,26 @@ fn centroids(
         sum_sq / sets.points_in_sets() as f64
     };
     (centroids, mse)
+}
+
+/// Largest rotation (radians) and displacement of a view's point centroid (metres) of
+/// any view relative to the reference view between `before` and `after`.
+fn largest_step(
+    before: &[Pose],
+    after: &[Pose],
+    reference: usize,
+    centroids: &[Point3<f64>],
+) -> (f64, f64) {
+    let (ref_before, ref_after) = (before[reference].inverse(), after[reference].inverse());
+    let mut worst = (0.0f64, 0.0f64);
+    for (v, c) in centroids.iter().enumerate() {
+        let d = (ref_before * before[v]).inverse() * (ref_after * after[v]);
+        worst = (
+            worst.0.max(d.rotation.angle()),
+            worst.1.max((d * c - c).norm()),
+        );
+    }
+    worst
 }
 
 /// Views not linked to the reference view through shared independent sets.

@@ -54,6 +54,15 @@ impl ViewTree {
         &self.points
     }
 
+    /// Centroid of the points (view frame).
+    pub(crate) fn centroid(&self) -> Point3<f64> {
+        let sum = self
+            .points
+            .iter()
+            .fold(nalgebra::Vector3::zeros(), |s, p| s + p.coords);
+        Point3::from(sum / self.points.len().max(1) as f64)
+    }
+
     /// Whether `q` (view frame) lies within `margin` of the points' bounding box: if not,
     /// no point is within `margin` of it.
     pub(crate) fn near_bounds(&self, q: &Point3<f64>, margin: f64) -> bool {
