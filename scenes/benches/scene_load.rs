@@ -8,11 +8,7 @@ use std::hint::black_box;
 use std::path::Path;
 
 fn env1_text() -> String {
-    let urdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/robot.urdf");
-    nbv_scenes::builtin::text("paper-env1").unwrap().replace(
-        "\"../assets/urdf/comau_smart_six.urdf\"",
-        &format!("{:?}", urdf.display().to_string()),
-    )
+    nbv_scenes::builtin::text("paper-env1").expect("built-in scene").to_string()
 }
 
 fn benches(c: &mut Criterion) {

@@ -157,6 +157,10 @@ pub enum Problem {
     /// The grid would be unreasonably large.
     #[error("the grid has {0} voxels, more than the limit of 100 million")]
     GridTooLarge(usize),
+    /// The robot model cannot be used: malformed URDF, no closed-form IK, a missing sensor
+    /// frame, a home configuration outside the joint limits.
+    #[error("robot model: {0}")]
+    Robot(String),
     /// A seed too large for TOML's signed 64-bit integers.
     #[error("seed {0} exceeds 2^63 - 1")]
     SeedTooLarge(u64),

@@ -17,6 +17,7 @@ use crate::mesh_distance::{contains_point, surface_distance_below};
 use crate::placed::obstacle_local_mesh;
 use crate::scene::Scene;
 use crate::schema::PoseSpec;
+use nbv_core::kinematics::Robot;
 use nbv_core::mesh::TriMesh;
 use nbv_core::mesh::io::read_mesh;
 use std::collections::{HashMap, HashSet};
@@ -509,8 +510,43 @@ fn parameters(s: &Scene, c: &Check) -> Result<(), SceneError> {
     )
 }
 
-fn geometry(s: &Scene, c: &Check) -> Result<(), SceneError> {
+/// The robot's URDF loads as a kinematic model with closed-form IK, carries both sensor
+/// frames, and the home configuration is within the joint limits.
+fn robot_model(s: &Scene, c: &Check) -> Result<(), SceneError> {
     c.file_exists("robot.urdf", &s.robot.urdf)?;
+    let robot = Robot::from_urdf_file(&s.robot.urdf)
+        .map_err(|e| c.err("robot.urdf", Problem::Robot(e.to_string())))?;
+    robot.ik_parameters().map_err(|e| {
+        c.err(
+            "robot.urdf",
+            Problem::Robot(format!("no closed-form IK: {e}")),
+        )
+    })?;
+    for (key, frame) in [
+        ("sensors.mid_range.frame", &s.sensors.mid_range.frame),
+        ("sensors.short_range.frame", &s.sensors.short_range.frame),
+    ] {
+        if robot.frame_index(frame).is_none() {
+            let msg = format!("the URDF has no frame `{frame}`");
+            return Err(c.err(key, Problem::Robot(msg)));
+        }
+    }
+    for (j, (deg, limit)) in s.robot.home_deg.iter().zip(robot.limits()).enumerate() {
+        if !limit.contains(deg.to_radians()) {
+            let msg = format!(
+                "joint {} at {deg}° is outside its limits [{:.1}°, {:.1}°]",
+                j + 1,
+                limit.lower.to_degrees(),
+                limit.upper.to_degrees()
+            );
+            return Err(c.err(format!("robot.home_deg[{j}]"), Problem::Robot(msg)));
+        }
+    }
+    Ok(())
+}
+
+fn geometry(s: &Scene, c: &Check) -> Result<(), SceneError> {
+    robot_model(s, c)?;
     // Load each distinct mesh once.
     let mut cache: HashMap<PathBuf, TriMesh> = HashMap::new();
     let mut load = |key: String, path: &Path| -> Result<TriMesh, SceneError> {

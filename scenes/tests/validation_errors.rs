@@ -146,7 +146,7 @@ fn structural_errors() {
     assert_eq!(invalid(&eps).0, "mapping.epsilon_o");
     let sweep = env1().replace(", [0.0, -30.0, -90.0, 0.0, 75.0, 0.0]]", "]");
     assert_eq!(invalid(&sweep).0, "sweep.waypoints_deg");
-    let urdf = env1().replace("robot.urdf", "missing.urdf");
+    let urdf = env1().replace("comau_smart_six.urdf", "missing.urdf");
     assert!(matches!(invalid(&urdf), (k, Problem::MissingFile(_)) if k == "robot.urdf"));
 }
 
@@ -255,4 +255,29 @@ proptest! {
         }
         let _ = check(&out).map_err(|e| e.to_string());
     }
+}
+
+#[test]
+fn malformed_urdf_and_home_outside_limits_are_robot_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.urdf");
+    std::fs::write(&bad, "<robot name=\"r\"><link name=\"a\"/>").unwrap();
+    let text = env1().replace(
+        &format!("{:?}", common::fixture_urdf().display().to_string()),
+        &format!("{:?}", bad.display().to_string()),
+    );
+    let (key, problem) = invalid(&text);
+    assert_eq!(key, "robot.urdf");
+    assert!(
+        matches!(problem, Problem::Robot(ref m) if m.contains("bad.urdf")),
+        "{problem}"
+    );
+
+    let text = env1().replace("home_deg = [0.0, 0.0, -90.0", "home_deg = [0.0, 0.0, 10.0");
+    let (key, problem) = invalid(&text);
+    assert_eq!(key, "robot.home_deg[2]");
+    assert!(
+        matches!(problem, Problem::Robot(ref m) if m.contains("outside its limits")),
+        "{problem}"
+    );
 }

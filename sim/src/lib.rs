@@ -5,3 +5,4 @@
 
 mod convert;
 pub mod world;
+pub mod render;

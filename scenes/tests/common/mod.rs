@@ -5,9 +5,11 @@
 use nbv_scenes::Scene;
 use std::path::{Path, PathBuf};
 
-/// The test URDF (validation only needs the file to exist).
+/// The robot's URDF (validation loads it as a kinematic model).
 pub fn fixture_urdf() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/robot.urdf")
+    nbv_scenes::paths::normalize(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/urdf/comau_smart_six.urdf"),
+    )
 }
 
 /// A built-in scene's text with its robot URDF pointed at the fixture.
