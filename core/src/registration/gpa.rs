@@ -29,12 +29,12 @@ use nalgebra::{Point3, Vector3};
 use rayon::prelude::*;
 
 use super::independent_sets::{IndependentSets, find_independent_sets};
-use super::mutual_neighbours::{ViewLayout, mutual_edges};
+use super::mutual_neighbours::{MutualSearch, ViewLayout};
 use super::procrustes::CrossCovariance;
 use super::view_tree::ViewTree;
 use super::{
-    GpaReport, MethodReport, Registration, RegistrationError, RegistrationParams, StopReason,
-    settled,
+    GpaReport, MethodReport, Registration, RegistrationError, RegistrationParams, SetRule,
+    StopReason, settled,
 };
 use crate::cloud::PointCloud;
 use crate::math::Pose;
@@ -60,7 +60,7 @@ pub(crate) fn run(
     let trees: Vec<ViewTree> = views
         .par_iter()
         .enumerate()
-        .map(|(v, cloud)| ViewTree::build(v, &cloud.points))
+        .map(|(v, cloud)| ViewTree::build_with_graph(v, &cloud.points))
         .collect::<Result<_, _>>()?;
     let layout = ViewLayout::new(views.iter().map(PointCloud::len));
     let reference = params.reference;
@@ -69,11 +69,12 @@ pub(crate) fn run(
     // Work in the reference view's initial frame.
     let mut poses: Vec<Pose> = initial.iter().map(|p| anchor_inv * p).collect();
     let view_centroids: Vec<Point3<f64>> = trees.iter().map(ViewTree::centroid).collect();
+    let mut search = MutualSearch::new(&trees, params.max_correspondence_distance);
     let mut history = Vec::new();
     let mut iterations = 0;
     let mut inner_iterations = 0;
     let (corr, mse, stop) = loop {
-        let corr = correspond(&trees, &poses, &layout, params);
+        let corr = correspond(&trees, &poses, &layout, &mut search, params.set_rule);
         if corr.sets.is_empty() {
             break (corr, None, StopReason::NoCorrespondences);
         }
@@ -213,10 +214,11 @@ fn correspond(
     trees: &[ViewTree],
     poses: &[Pose],
     layout: &ViewLayout,
-    params: &RegistrationParams,
+    search: &mut MutualSearch,
+    rule: SetRule,
 ) -> Correspondences {
-    let edges = mutual_edges(trees, poses, layout, params.max_correspondence_distance);
-    let sets = find_independent_sets(layout, &edges, params.set_rule);
+    let edges = search.edges(trees, poses, layout);
+    let sets = find_independent_sets(layout, &edges, rule);
     let locals: Vec<(u32, u32)> = sets
         .members()
         .par_iter()

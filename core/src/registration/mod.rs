@@ -50,6 +50,8 @@ mod icp;
 mod independent_sets;
 mod merge;
 mod mutual_neighbours;
+mod nearest_cache;
+mod neighbour_graph;
 mod normals;
 mod params;
 mod procrustes;
