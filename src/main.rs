@@ -17,6 +17,9 @@ struct Cli {
 enum Command {
     /// Scene files: validate, describe, generate random scenes, write the object meshes.
     Scene(cli::scene::SceneArgs),
+    /// Register views (PLY/PCD) globally by p-ICP-GPA or sequential ICP; write the poses
+    /// and the merged model.
+    Register(cli::register::RegisterArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -25,10 +28,11 @@ fn main() -> std::process::ExitCode {
         .with_writer(std::io::stderr)
         .init();
     let result = match Cli::parse().command {
-        Command::Scene(args) => cli::scene::run(args),
+        Command::Scene(args) => cli::scene::run(args).map(|()| std::process::ExitCode::SUCCESS),
+        Command::Register(args) => cli::register::run(args),
     };
     match result {
-        Ok(()) => std::process::ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(e) => {
             // The error and its causes on one line each, without a backtrace.
             eprintln!("error: {e:#}");

@@ -1,3 +1,4 @@
 //! The subcommands of `nbv`, one module each.
 
+pub mod register;
 pub mod scene;

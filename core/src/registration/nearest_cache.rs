@@ -208,10 +208,14 @@ impl UpdateChunk<'_> {
         } = self.context;
         let scale = target.scale();
         let mut searches = 0;
+        // The previous point's nearest point: a start for walks of fresh entries, since
+        // neighbouring query points (scan order) have neighbouring answers.
+        let mut hint = None;
         for (k, entry) in self.entries.iter_mut().enumerate() {
             let p = &points[self.start + k].coords;
             let q = Point3::from(rotation * p + translation);
             let margin = ROUNDING * (1.0 + scale + q.coords.amax());
+            let mut start = hint;
             if entry.stamp != u32::MAX {
                 let (dr, dt) = &deltas[entry.stamp as usize];
                 let delta = (dr * p + dt).norm() + margin;
@@ -222,23 +226,32 @@ impl UpdateChunk<'_> {
                     }
                 } else if d1 + delta < d2 - delta || d2 - delta > radius + margin {
                     entry.sq = (q - target.points()[entry.index as usize]).norm_squared();
+                    hint = Some(entry.index as usize);
                     continue;
-                } else if let Some(w) = target
-                    .graph()
-                    .and_then(|g| g.walk(target.points(), &q, entry.index as usize))
-                {
-                    *entry = Nearest {
-                        index: w.index as u32,
-                        sq: w.sq,
-                        stamp,
-                        d1: round_up(w.sq.sqrt() + margin),
-                        d2: round_down((w.others - margin).max(0.0)),
-                    };
-                    continue;
+                } else {
+                    start = Some(entry.index as usize);
                 }
             }
-            *entry = search(target, &q, radius, stamp);
-            searches += 1;
+            let walk = target
+                .graph()
+                .zip(start)
+                .and_then(|(g, s)| g.walk(target.points(), &q, s));
+            *entry = match walk {
+                Some(w) => Nearest {
+                    index: w.index as u32,
+                    sq: w.sq,
+                    stamp,
+                    d1: round_up(w.sq.sqrt() + margin),
+                    d2: round_down((w.others - margin).max(0.0)),
+                },
+                None => {
+                    searches += 1;
+                    search(target, &q, radius, stamp)
+                }
+            };
+            if entry.index != NONE {
+                hint = Some(entry.index as usize);
+            }
         }
         searches
     }
