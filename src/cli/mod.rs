@@ -2,4 +2,5 @@
 
 pub mod map;
 pub mod render;
+pub mod register;
 pub mod scene;
