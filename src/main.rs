@@ -17,6 +17,8 @@ struct Cli {
 enum Command {
     /// Scene files: validate, describe, generate random scenes, write the object meshes.
     Scene(cli::scene::SceneArgs),
+    /// The method end to end on a scene in the twin: report, models, map and pictures.
+    Explore(cli::explore::ExploreArgs),
     /// Phase 1 on a mid-range cloud: object clusters, occupancy grid and reduced map.
     Map(cli::map::MapArgs),
     /// PNG pictures of a scene, of point clouds, or of an occupancy map (headless).
@@ -38,6 +40,7 @@ fn main() -> std::process::ExitCode {
         .init();
     let result = match Cli::parse().command {
         Command::Scene(args) => cli::scene::run(args).map(|()| std::process::ExitCode::SUCCESS),
+        Command::Explore(args) => cli::explore::run(args).map(|()| std::process::ExitCode::SUCCESS),
         Command::Map(args) => cli::map::run(args).map(|()| std::process::ExitCode::SUCCESS),
         Command::Render(args) => cli::render::run(args).map(|()| std::process::ExitCode::SUCCESS),
         Command::Register(args) => cli::register::run(args),

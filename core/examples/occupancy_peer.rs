@@ -49,7 +49,10 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
-    let out = std::path::PathBuf::from(args.next().ok_or("usage: occupancy_peer OUTDIR [--runs N]")?);
+    let out = std::path::PathBuf::from(
+        args.next()
+            .ok_or("usage: occupancy_peer OUTDIR [--runs N]")?,
+    );
     let mut runs = 15usize;
     while let Some(a) = args.next() {
         match a.as_str() {

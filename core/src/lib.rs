@@ -12,12 +12,14 @@
 //! - a pose `T_a_b` maps coordinates in frame `b` to frame `a`.
 
 pub mod cloud;
+pub mod evaluation;
 pub mod kinematics;
 pub mod math;
 pub mod mesh;
 pub mod nbv;
 pub mod occupancy;
-pub mod planning;
 pub mod perception;
+pub mod pipeline;
+pub mod planning;
 pub mod registration;
 pub mod rig;

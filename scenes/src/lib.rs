@@ -23,6 +23,7 @@
 pub mod builtin;
 pub mod describe;
 pub mod error;
+pub mod explore_config;
 pub mod generator;
 pub mod mesh_distance;
 pub mod meshgen;

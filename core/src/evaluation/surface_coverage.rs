@@ -1,0 +1,125 @@
+//! [`surface_coverage`]: the share of a true surface (above a floor) that lies within a
+//! tolerance of a model cloud, from seeded area-weighted samples of the surface.
+
+use crate::cloud::PointCloud;
+use crate::mesh::TriMesh;
+use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use nalgebra::Point3;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// The result of [`surface_coverage`].
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Coverage {
+    /// Surface samples considered (above the floor).
+    pub samples: usize,
+    /// Samples within the tolerance of a model point.
+    pub covered: usize,
+}
+
+impl Coverage {
+    /// `covered / samples` (0 without samples).
+    pub fn share(&self) -> f64 {
+        if self.samples == 0 {
+            0.0
+        } else {
+            self.covered as f64 / self.samples as f64
+        }
+    }
+}
+
+/// `n` points on `mesh`'s surface, uniform by area, from `seed` (the same seed gives the
+/// same points). An empty or degenerate mesh gives none.
+///
+/// ```
+/// use nbv_core::evaluation::sample_surface;
+/// use nbv_core::mesh::TriMesh;
+/// let cube = TriMesh::cuboid([0.5, 0.5, 0.5]);
+/// let pts = sample_surface(&cube, 1000, 1);
+/// assert_eq!(pts.len(), 1000);
+/// // Every sample lies on a face of the unit cube.
+/// assert!(pts.iter().all(|p| p.iter().any(|c| (c.abs() - 0.5).abs() < 1e-12)));
+/// ```
+pub fn sample_surface(mesh: &TriMesh, n: usize, seed: u64) -> Vec<Point3<f64>> {
+    let mut cumulative = Vec::with_capacity(mesh.triangles.len());
+    let mut total = 0.0;
+    for i in 0..mesh.triangles.len() {
+        let [a, b, c] = mesh.triangle(i);
+        total += (b - a).cross(&(c - a)).norm() / 2.0;
+        cumulative.push(total);
+    }
+    if !(total > 0.0) {
+        return Vec::new();
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..n)
+        .map(|_| {
+            let x = rng.random::<f64>() * total;
+            let i = cumulative
+                .partition_point(|&c| c < x)
+                .min(cumulative.len() - 1);
+            let [a, b, c] = mesh.triangle(i);
+            let (mut u, mut v) = (rng.random::<f64>(), rng.random::<f64>());
+            if u + v > 1.0 {
+                (u, v) = (1.0 - u, 1.0 - v);
+            }
+            a + (b - a) * u + (c - a) * v
+        })
+        .collect()
+}
+
+/// Coverage of `surface` (world frame) by `model`: of `samples` area-weighted samples of
+/// the surface (seeded) those with `z > floor`, the share within `tolerance` of a model
+/// point.
+///
+/// ```
+/// use nbv_core::cloud::PointCloud;
+/// use nbv_core::evaluation::{sample_surface, surface_coverage};
+/// use nbv_core::mesh::TriMesh;
+/// let cube = TriMesh::cuboid([0.5, 0.5, 0.5]);
+/// // A model of the top face only: 1/6 of the surface, 1/5 of it above z = -0.499.
+/// let top: Vec<_> = sample_surface(&cube, 20_000, 9).into_iter().filter(|p| p.z > 0.499).collect();
+/// let c = surface_coverage(&cube, &PointCloud::from_points(top), 0.02, -0.499, 5000, 3);
+/// assert!((c.share() - 0.2).abs() < 0.02, "{}", c.share());
+/// ```
+pub fn surface_coverage(
+    surface: &TriMesh,
+    model: &PointCloud,
+    tolerance: f64,
+    floor: f64,
+    samples: usize,
+    seed: u64,
+) -> Coverage {
+    let points: Vec<Point3<f64>> = sample_surface(surface, samples, seed)
+        .into_iter()
+        .filter(|p| p.z > floor)
+        .collect();
+    let mut coverage = Coverage {
+        samples: points.len(),
+        covered: 0,
+    };
+    let coords: Vec<[f64; 3]> = model
+        .points
+        .iter()
+        .filter(|p| p.iter().all(|c| c.is_finite()))
+        .map(|p| [p.x, p.y, p.z])
+        .collect();
+    if coords.is_empty() {
+        return coverage;
+    }
+    let Ok(tree) = ImmutableKdTree::<f64, 3>::builder().build_from_slice(&coords) else {
+        return coverage;
+    };
+    let limit = tolerance * tolerance;
+    coverage.covered = points
+        .iter()
+        .filter(|p| {
+            tree.query(&[p.x, p.y, p.z])
+                .nearest_one::<SquaredEuclidean<f64>>()
+                .execute()
+                .distance
+                <= limit
+        })
+        .count();
+    coverage
+}

@@ -1,0 +1,413 @@
+//! [`explore`]: Algorithm 1 of the paper over any rig.
+
+use super::{
+    AcquiredView, Exploration, ExploreConfig, ExploreEvent, ExploreMode, ExploreObserver,
+    ObjectExploration, ObjectRegion, ObjectRegistration, ObjectStop, PhaseOneReport, PipelineError,
+    StepTimes, ViewFailure,
+};
+use crate::cloud::PointCloud;
+use crate::kinematics::Robot;
+use crate::math::Pose;
+use crate::nbv::{InformationGain, NextBestView, VisitedViews};
+use crate::occupancy::{OccupancyGrid, ReducedMap};
+use crate::perception::phase_one;
+use crate::planning::{CollisionWorld, MotionPlanner, PlanningError};
+use crate::registration::{Method, RegistrationParams, register};
+use crate::rig::{
+    Arm, DepthCamera, LineScanner, RigError, acquire_sweep, depth_frame_to_cloud, lines_to_cloud,
+    sensor_pose,
+};
+use std::time::Instant;
+
+/// Runs the method (or the baseline of `config.mode`) on a rig: the phase-1 sweep and
+/// segmentation, the grid and reduced map, next-best-view exploration of each object
+/// (Algorithm 1: viewpoints by Algorithm 2, plan and execute with the next viewpoint on
+/// failure, acquire, update, information gain, stop rule), then the registration of each
+/// object's views by p-ICP-GPA and by sequential ICP with the phase-1 cluster as the
+/// reference view.
+///
+/// The robot's base must be the world frame (`robot` plans in its base frame, the map and
+/// the obstacles are in the world frame). A viewpoint whose planning or execution fails is
+/// recorded in [`ObjectExploration::failures`] and the next one is tried; collisions the
+/// rig reports are counted in [`Exploration::collisions`]. Same rig behaviour and
+/// configuration ⇒ same result (timings aside).
+pub fn explore<A, L, C>(
+    robot: &Robot,
+    base: &Pose,
+    arm: &mut A,
+    scanner: &mut L,
+    camera: &mut C,
+    config: &ExploreConfig,
+    observer: &mut dyn ExploreObserver,
+) -> Result<Exploration, PipelineError>
+where
+    A: Arm + ?Sized,
+    L: LineScanner + ?Sized,
+    C: DepthCamera + ?Sized,
+{
+    if (base.translation.vector.norm() > 1e-12) || (base.rotation.angle() > 1e-12) {
+        return Err(PipelineError::Config(
+            "the robot base must be at the world origin for planning".into(),
+        ));
+    }
+    let phase = run_phase_one(robot, base, arm, scanner, config, observer)?;
+    let (phase_report, segmentation) = phase;
+    let mut grid = phase_report.grid.clone();
+    let mut objects = Vec::new();
+    let mut collisions = 0;
+    let nbv = NextBestView::new(config.nbv, camera.spec())?;
+    for (j, cluster) in segmentation.clusters.iter().enumerate() {
+        // The table's height under the object (no floor without a table plane).
+        let floor = segmentation
+            .table
+            .as_ref()
+            .filter(|t| t.normal.z > 0.5)
+            .map(|t| {
+                let c = cluster.centroid;
+                -(t.offset + t.normal.x * c.x + t.normal.y * c.y) / t.normal.z
+            })
+            .unwrap_or(f64::NEG_INFINITY);
+        observer.event(&ExploreEvent::ObjectStarted { object: j });
+        let cloud = cluster.cloud(&segmentation.filtered);
+        let region = ObjectRegion::around(cluster.min, cluster.max, config.object_margin, floor);
+        let mut object = ObjectExploration {
+            index: j,
+            cluster: cloud,
+            views: Vec::new(),
+            failures: Vec::new(),
+            candidates_evaluated: 0,
+            stop: ObjectStop::NotExplored,
+            registration: None,
+            registration_error: None,
+            times: StepTimes::default(),
+        };
+        if config.mode == ExploreMode::Hybrid {
+            let hits = explore_object(
+                robot,
+                base,
+                arm,
+                camera,
+                config,
+                &nbv,
+                &mut grid,
+                &region,
+                &mut object,
+                observer,
+            )?;
+            collisions += hits;
+        }
+        let stop = match object.stop {
+            ObjectStop::Rule(r) => Some(r),
+            _ => None,
+        };
+        observer.event(&ExploreEvent::ObjectDone {
+            object: j,
+            reason: stop,
+        });
+        if object.views.iter().any(|v| !v.cloud.is_empty()) {
+            let t = Instant::now();
+            match register_object(&object, &config.registration, config.registration_points) {
+                Ok(r) => object.registration = Some(r),
+                Err(e) => object.registration_error = Some(e.to_string()),
+            }
+            object.times.registration += t.elapsed().as_secs_f64();
+            observer.event(&ExploreEvent::Registered { object: j });
+        }
+        objects.push(object);
+    }
+    Ok(Exploration {
+        mode: config.mode,
+        phase_one: phase_report,
+        objects,
+        grid,
+        collisions,
+    })
+}
+
+/// Phase 1: sweep, cloud, segmentation, grid.
+fn run_phase_one<A, L>(
+    robot: &Robot,
+    base: &Pose,
+    arm: &mut A,
+    scanner: &mut L,
+    config: &ExploreConfig,
+    observer: &mut dyn ExploreObserver,
+) -> Result<(PhaseOneReport, crate::perception::ObjectSegmentation), PipelineError>
+where
+    A: Arm + ?Sized,
+    L: LineScanner + ?Sized,
+{
+    let mut times = StepTimes::default();
+    observer.event(&ExploreEvent::SweepStarted {
+        waypoints: config.sweep.len(),
+    });
+    let t = Instant::now();
+    let sweep = acquire_sweep(arm, scanner, &config.sweep, config.sweep_speed)?;
+    times.motion += t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let cloud = lines_to_cloud(&sweep.lines, &sweep.motion, robot, base, scanner.spec())?;
+    times.acquisition += t.elapsed().as_secs_f64();
+    observer.event(&ExploreEvent::SweepDone {
+        lines: sweep.lines.len(),
+        points: cloud.len(),
+    });
+    let t = Instant::now();
+    let one = phase_one(&cloud, &config.phase_one)?;
+    // phase_one segments and maps; split the time by re-measuring nothing: both count as
+    // segmentation + mapping, attributed to mapping for the grid part below.
+    times.segmentation += t.elapsed().as_secs_f64();
+    observer.event(&ExploreEvent::Segmented {
+        objects: one.segmentation.clusters.len(),
+    });
+    let report = PhaseOneReport {
+        lines: sweep.lines.len(),
+        cloud,
+        segmentation: one.segmentation.counts,
+        scan: one.map.scan,
+        reduced: one.map.reduced.stats().clone(),
+        grid: one.map.grid,
+        times,
+    };
+    Ok((report, one.segmentation))
+}
+
+/// Algorithm 1's inner loop for one object; returns the collisions the rig reported.
+#[allow(clippy::too_many_arguments)]
+fn explore_object<A, C>(
+    robot: &Robot,
+    base: &Pose,
+    arm: &mut A,
+    camera: &mut C,
+    config: &ExploreConfig,
+    nbv: &NextBestView,
+    grid: &mut OccupancyGrid,
+    region: &ObjectRegion,
+    object: &mut ObjectExploration,
+    observer: &mut dyn ExploreObserver,
+) -> Result<usize, PipelineError>
+where
+    A: Arm + ?Sized,
+    C: DepthCamera + ?Sized,
+{
+    let j = object.index;
+    let mut visited = VisitedViews::new(config.visited.0, config.visited.1)?;
+    let mut latest_gain: Option<InformationGain> = None;
+    let mut collisions = 0;
+    let mut failures_since_view = 0;
+    let mut attempt: u64 = 0;
+    loop {
+        if object.views.len() >= config.max_views_per_object {
+            object.stop = ObjectStop::MaxViews;
+            return Ok(collisions);
+        }
+        // Algorithm 2 around the centroid of everything seen of the object so far.
+        let t = Instant::now();
+        let reduced = ReducedMap::from_grid(grid);
+        object.times.mapping += t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let centroid = object_points(object)
+            .centroid()
+            .ok_or_else(|| PipelineError::Config(format!("object {j} has no point")))?;
+        let mut list = nbv.candidates_around(robot, &reduced, &centroid, &visited)?;
+        object.times.nbv += t.elapsed().as_secs_f64();
+        object.candidates_evaluated += list.candidates.len();
+        observer.event(&ExploreEvent::Candidates {
+            object: j,
+            candidates: list.candidates.len(),
+        });
+        if let Some(reason) = config
+            .stop
+            .check(latest_gain.as_ref(), list.candidates.len())
+        {
+            object.stop = ObjectStop::Rule(reason);
+            return Ok(collisions);
+        }
+        let t = Instant::now();
+        let world = CollisionWorld::new(robot, &config.obstacles)?.with_reduced_map(&reduced);
+        let mut planner = MotionPlanner::new(world, config.planner)?;
+        object.times.planning += t.elapsed().as_secs_f64();
+        let mut taken = false;
+        while let Some(candidate) = list.pop_first() {
+            attempt += 1;
+            let seed = config.seed ^ ((j as u64) << 32) ^ attempt;
+            let start = arm.joints()?;
+            let goals: Vec<_> = candidate
+                .viewpoint
+                .solutions
+                .iter()
+                .map(|s| s.joints)
+                .collect();
+            let t = Instant::now();
+            let planned = plan_clearing_start(&mut planner, &start, &goals, seed);
+            object.times.planning += t.elapsed().as_secs_f64();
+            let planned = match planned {
+                Ok(p) => p,
+                Err(e) => {
+                    fail(
+                        object,
+                        &candidate.viewpoint.pose,
+                        e.to_string(),
+                        false,
+                        observer,
+                    );
+                    failures_since_view += 1;
+                    continue;
+                }
+            };
+            let t = Instant::now();
+            let moved = arm.execute(&planned.path);
+            object.times.motion += t.elapsed().as_secs_f64();
+            if let Err(e) = moved {
+                let collision = matches!(e, RigError::Collision { .. });
+                collisions += usize::from(collision);
+                fail(
+                    object,
+                    &candidate.viewpoint.pose,
+                    e.to_string(),
+                    collision,
+                    observer,
+                );
+                failures_since_view += 1;
+                if !collision {
+                    // Anything else than a reported collision is a rig failure.
+                    return Err(e.into());
+                }
+                continue;
+            }
+            // Acquire, update, gain.
+            let t = Instant::now();
+            let frame = camera.capture()?;
+            let joints = arm.joints()?;
+            let pose = sensor_pose(robot, base, &joints, &camera.spec().frame)?;
+            let full = depth_frame_to_cloud(&frame, camera.spec(), &pose)?;
+            object.times.acquisition += t.elapsed().as_secs_f64();
+            let t = Instant::now();
+            let before = grid.clone();
+            grid.insert_cloud(&full, camera.spec().range[1])?;
+            let gain = InformationGain::between(&before, grid, &candidate.visible.all())?;
+            object.times.mapping += t.elapsed().as_secs_f64();
+            visited.push(candidate.viewpoint.pose);
+            let cloud = region.crop(&full);
+            object.views.push(AcquiredView {
+                viewpoint: candidate.viewpoint.pose,
+                score: candidate.score,
+                predicted: (
+                    candidate.visible.unknown.len(),
+                    candidate.visible.occupied.len(),
+                ),
+                joints,
+                sensor_pose: pose,
+                frame_points: full.len(),
+                cloud,
+                gain,
+                plan: planned.stats,
+                failures_before: failures_since_view,
+            });
+            failures_since_view = 0;
+            observer.event(&ExploreEvent::ViewTaken {
+                object: j,
+                views: object.views.len(),
+                gain: config.stop.measure.value(&gain),
+            });
+            latest_gain = Some(gain);
+            taken = true;
+            break;
+        }
+        if !taken {
+            object.stop = ObjectStop::Rule(crate::nbv::StopReason::NoViewpoint);
+            return Ok(collisions);
+        }
+    }
+}
+
+/// Plans; when the start touches only map voxels (unknown space around the arm that no
+/// ray cleared), those voxels are dropped from the planner's world and it plans again.
+fn plan_clearing_start(
+    planner: &mut MotionPlanner,
+    start: &crate::kinematics::Joints,
+    goals: &[crate::kinematics::Joints],
+    seed: u64,
+) -> Result<crate::planning::PlannedPath, PlanningError> {
+    match planner.plan(start, goals, seed) {
+        Err(PlanningError::StartInCollision(c)) if c.is_voxel() => {
+            let voxels = planner.world().colliding_voxels(start);
+            planner.world_mut().ignore_voxels(&voxels);
+            planner.plan(start, goals, seed)
+        }
+        other => other,
+    }
+}
+
+fn fail(
+    object: &mut ObjectExploration,
+    viewpoint: &Pose,
+    reason: String,
+    collision: bool,
+    observer: &mut dyn ExploreObserver,
+) {
+    observer.event(&ExploreEvent::ViewFailed {
+        object: object.index,
+        reason: reason.clone(),
+    });
+    object.failures.push(ViewFailure {
+        viewpoint: *viewpoint,
+        reason,
+        collision,
+    });
+}
+
+/// The cluster and every view's object points.
+fn object_points(object: &ObjectExploration) -> PointCloud {
+    let mut all = PointCloud::from_points(object.cluster.points.clone());
+    for v in &object.views {
+        all.extend(&PointCloud::from_points(v.cloud.points.clone()));
+    }
+    all
+}
+
+/// Evenly keeps at most `n` points of `cloud` (all columns); 0 keeps all.
+fn subsample(cloud: &PointCloud, n: usize) -> PointCloud {
+    if n == 0 || cloud.len() <= n {
+        return cloud.clone();
+    }
+    let indices: Vec<usize> = (0..n).map(|k| k * cloud.len() / n).collect();
+    cloud.select(&indices)
+}
+
+/// Registers the cluster (reference) and the views with both methods.
+fn register_object(
+    object: &ObjectExploration,
+    params: &RegistrationParams,
+    points: usize,
+) -> Result<ObjectRegistration, crate::registration::RegistrationError> {
+    let mut views = vec![subsample(&object.cluster, points)];
+    views.extend(
+        object
+            .views
+            .iter()
+            .filter(|v| !v.cloud.is_empty())
+            .map(|v| subsample(&v.cloud, points)),
+    );
+    let initial = vec![Pose::identity(); views.len()];
+    let gpa = register(
+        &views,
+        &initial,
+        &RegistrationParams {
+            method: Method::Gpa,
+            reference: 0,
+            ..params.clone()
+        },
+    )?;
+    let icp = register(
+        &views,
+        &initial,
+        &RegistrationParams {
+            method: Method::SequentialIcp {
+                point_to_plane: false,
+            },
+            reference: 0,
+            ..params.clone()
+        },
+    )?;
+    Ok(ObjectRegistration { views, gpa, icp })
+}

@@ -1,0 +1,63 @@
+//! [`ExploreConfig`]: every parameter of the pipeline, and [`ExploreMode`], the method or
+//! one of its baselines.
+
+use crate::kinematics::Joints;
+use crate::nbv::{NbvParams, StopRule};
+use crate::perception::PhaseOneConfig;
+use crate::planning::{Obstacle, PlannerConfig};
+use crate::registration::RegistrationParams;
+
+/// Which sensors the exploration uses.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum ExploreMode {
+    /// The paper's hybrid method: the laser sweep, then next-best views with the camera.
+    #[default]
+    Hybrid,
+    /// The laser sweep only: each object's model is its phase-1 cluster.
+    MidOnly,
+}
+
+impl ExploreMode {
+    /// The name used on the command line and in reports (`hybrid`, `mid-only`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Hybrid => "hybrid",
+            Self::MidOnly => "mid-only",
+        }
+    }
+}
+
+/// Everything [`explore`](super::explore) needs besides the rig and the robot model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExploreConfig {
+    /// The method or a baseline.
+    pub mode: ExploreMode,
+    /// The sweep's joint waypoints (the first is reached without scanning).
+    pub sweep: Vec<Joints>,
+    /// Speed fraction of the sweep (0, 1].
+    pub sweep_speed: f64,
+    /// Segmentation, grid and occupancy model of phase 1.
+    pub phase_one: PhaseOneConfig,
+    /// Algorithm 2's parameters.
+    pub nbv: NbvParams,
+    /// When an object is done.
+    pub stop: StopRule,
+    /// Visited-view thresholds: distance (m) and angle (rad) between sensor poses.
+    pub visited: (f64, f64),
+    /// Hard cap on short-range views per object.
+    pub max_views_per_object: usize,
+    /// The joint-space planner.
+    pub planner: PlannerConfig,
+    /// Obstacles the robot knows besides the map (the table, known obstacles), in the
+    /// world frame.
+    pub obstacles: Vec<Obstacle>,
+    /// Registration parameters (method and reference are set per run).
+    pub registration: RegistrationParams,
+    /// Points per view kept for registration (views are subsampled evenly); 0 keeps all.
+    pub registration_points: usize,
+    /// Margin (m) around an object's phase-1 bounding box within which short-range points
+    /// belong to the object.
+    pub object_margin: f64,
+    /// Seed of every random choice the pipeline makes (the planner's samples).
+    pub seed: u64,
+}

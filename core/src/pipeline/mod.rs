@@ -1,0 +1,27 @@
+//! The method end to end (the paper's Figure 2), generic over the rig traits: the
+//! phase-1 laser sweep, segmentation, the occupancy grid and its reduced map, then for each
+//! object next-best-view exploration with the depth camera (Algorithm 1), and finally
+//! the global registration of each object's views (p-ICP-GPA, with sequential ICP as
+//! the baseline).
+//!
+//! [`explore`] drives an [`Arm`](crate::rig::Arm), a
+//! [`LineScanner`](crate::rig::LineScanner) and a
+//! [`DepthCamera`](crate::rig::DepthCamera); it never knows whether they are the twin or
+//! the real devices. Progress goes to an [`ExploreObserver`].
+
+mod exploration;
+mod explore_config;
+mod explore_event;
+mod object_crop;
+mod pipeline_error;
+mod results;
+
+pub use exploration::explore;
+pub use explore_config::{ExploreConfig, ExploreMode};
+pub use explore_event::{ExploreEvent, ExploreObserver, NoObserver};
+pub use object_crop::ObjectRegion;
+pub use pipeline_error::PipelineError;
+pub use results::{
+    AcquiredView, Exploration, ObjectExploration, ObjectRegistration, ObjectStop, PhaseOneReport,
+    StepTimes, ViewFailure,
+};

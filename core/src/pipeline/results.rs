@@ -1,0 +1,207 @@
+//! What an exploration produced: [`Exploration`] with its phase-1 summary and one
+//! [`ObjectExploration`] per object.
+
+use super::ExploreMode;
+use crate::cloud::PointCloud;
+use crate::kinematics::Joints;
+use crate::math::Pose;
+use crate::nbv::{InformationGain, StopReason};
+use crate::occupancy::{OccupancyGrid, ReducedMapStats, ScanUpdate};
+use crate::perception::SegmentationCounts;
+use crate::planning::PlanStats;
+use crate::registration::Registration;
+
+/// Wall-clock seconds per step (Table I of the paper); not part of the results' identity.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StepTimes {
+    /// Moving and scanning (sweep, or the moves to the views).
+    pub motion: f64,
+    /// Sensor data to clouds.
+    pub acquisition: f64,
+    /// Segmentation.
+    pub segmentation: f64,
+    /// Grid and reduced-map updates.
+    pub mapping: f64,
+    /// Viewpoint generation and O_v (Algorithm 2).
+    pub nbv: f64,
+    /// Motion planning.
+    pub planning: f64,
+    /// Registration (both methods).
+    pub registration: f64,
+}
+
+impl StepTimes {
+    /// Sum of the steps.
+    pub fn total(&self) -> f64 {
+        self.motion
+            + self.acquisition
+            + self.segmentation
+            + self.mapping
+            + self.nbv
+            + self.planning
+            + self.registration
+    }
+
+    /// Adds `other` step by step.
+    pub fn add(&mut self, other: &StepTimes) {
+        self.motion += other.motion;
+        self.acquisition += other.acquisition;
+        self.segmentation += other.segmentation;
+        self.mapping += other.mapping;
+        self.nbv += other.nbv;
+        self.planning += other.planning;
+        self.registration += other.registration;
+    }
+}
+
+/// Phase 1 in numbers.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PhaseOneReport {
+    /// Scan lines of the sweep.
+    pub lines: usize,
+    /// The mid-range cloud P (world frame, reported poses, with origins).
+    pub cloud: PointCloud,
+    /// Segmentation counts.
+    pub segmentation: SegmentationCounts,
+    /// The grid update.
+    pub scan: ScanUpdate,
+    /// The grid after phase 1.
+    pub grid: OccupancyGrid,
+    /// Its reduced map's statistics.
+    pub reduced: ReducedMapStats,
+    /// Times.
+    pub times: StepTimes,
+}
+
+/// A short-range view that was taken.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AcquiredView {
+    /// The planned viewpoint's sensor pose.
+    pub viewpoint: Pose,
+    /// Eq. (4) score of the viewpoint when chosen.
+    pub score: f64,
+    /// |O_v| unknown and occupied when chosen.
+    pub predicted: (usize, usize),
+    /// The reported joints at acquisition.
+    pub joints: Joints,
+    /// The reported sensor pose at acquisition.
+    pub sensor_pose: Pose,
+    /// Points in the whole frame.
+    pub frame_points: usize,
+    /// The object's points of the frame (world frame, reported pose).
+    pub cloud: PointCloud,
+    /// Eq. (5) over O_v.
+    pub gain: InformationGain,
+    /// The planned path's statistics.
+    pub plan: PlanStats,
+    /// Viewpoints tried before this one succeeded (failures since the previous view).
+    pub failures_before: usize,
+}
+
+/// A viewpoint that could not be reached.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ViewFailure {
+    /// Its sensor pose.
+    pub viewpoint: Pose,
+    /// Why: the planner's or the rig's message.
+    pub reason: String,
+    /// Whether the rig reported a collision while executing the planned path.
+    pub collision: bool,
+}
+
+/// Why an object's exploration ended.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ObjectStop {
+    /// The stop rule (gain below threshold, or no viewpoint left).
+    Rule(StopReason),
+    /// The per-object view cap.
+    MaxViews,
+    /// Not explored (mid-only mode).
+    NotExplored,
+}
+
+/// Both registrations of an object's views (view 0 is the phase-1 cluster, the
+/// reference).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ObjectRegistration {
+    /// The views as registered (subsampled, world frame through the reported poses).
+    pub views: Vec<PointCloud>,
+    /// p-ICP-GPA.
+    pub gpa: Registration,
+    /// Sequential ICP (view h onto view h−1).
+    pub icp: Registration,
+}
+
+/// One object of the exploration.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ObjectExploration {
+    /// Index of the phase-1 cluster.
+    pub index: usize,
+    /// The phase-1 cluster P_j^0.
+    pub cluster: PointCloud,
+    /// The short-range views taken, in order.
+    pub views: Vec<AcquiredView>,
+    /// Viewpoints that failed.
+    pub failures: Vec<ViewFailure>,
+    /// Candidate viewpoints evaluated (summed over the NBV rounds).
+    pub candidates_evaluated: usize,
+    /// Why it ended.
+    pub stop: ObjectStop,
+    /// The registrations (`None` with no short-range view, or when registration failed).
+    pub registration: Option<ObjectRegistration>,
+    /// Why registration failed, if it did.
+    pub registration_error: Option<String>,
+    /// Times.
+    pub times: StepTimes,
+}
+
+impl ObjectExploration {
+    /// The object's model: its views merged through the p-ICP-GPA poses, with a `views`
+    /// column (the cluster alone when there was nothing to register).
+    pub fn model(&self) -> PointCloud {
+        self.merged_with(|r| &r.gpa)
+    }
+
+    /// The model by the sequential ICP baseline.
+    pub fn icp_model(&self) -> PointCloud {
+        self.merged_with(|r| &r.icp)
+    }
+
+    /// The views as acquired, before registration, with a `views` column.
+    pub fn unregistered_model(&self) -> PointCloud {
+        match &self.registration {
+            Some(r) => {
+                let mut out = PointCloud::default();
+                for (k, v) in r.views.iter().enumerate() {
+                    let mut v = v.clone();
+                    v.views = Some(vec![k as u32; v.len()]);
+                    out.extend(&v);
+                }
+                out
+            }
+            None => self.cluster.clone(),
+        }
+    }
+
+    fn merged_with(&self, pick: impl Fn(&ObjectRegistration) -> &Registration) -> PointCloud {
+        self.registration
+            .as_ref()
+            .and_then(|r| pick(r).merged(&r.views).ok())
+            .unwrap_or_else(|| self.cluster.clone())
+    }
+}
+
+/// The whole exploration.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Exploration {
+    /// The mode it ran in.
+    pub mode: ExploreMode,
+    /// Phase 1.
+    pub phase_one: PhaseOneReport,
+    /// The objects, in cluster order.
+    pub objects: Vec<ObjectExploration>,
+    /// The grid at the end.
+    pub grid: OccupancyGrid,
+    /// Collisions the rig reported while executing planned paths.
+    pub collisions: usize,
+}

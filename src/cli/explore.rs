@@ -1,0 +1,159 @@
+//! `nbv explore`: the method end to end on a scene in the twin, with a report, the models,
+//! the map and pictures in an output directory.
+
+use super::explore_report::{ExploreReport, evaluate};
+use super::progress::ProgressObserver;
+use anyhow::{Context, Result, bail};
+use clap::{Args, ValueEnum};
+use nbv_core::cloud::io::{WriteOptions, write_cloud};
+use nbv_core::kinematics::Robot;
+use nbv_core::pipeline::{ExploreMode, explore};
+use nbv_sim::rig::SimRig;
+use std::path::{Path, PathBuf};
+
+/// Arguments of `nbv explore`.
+#[derive(Debug, Args)]
+#[command(after_help = "\
+Writes into OUT:
+  report.json                  per object: views, viewpoints tried and failed, gain per view,
+                               surface coverage, registration error (p-ICP-GPA and sequential
+                               ICP) against ground truth, times per step; totals, collisions,
+                               configuration and seed
+  map/grid.nbvgrid             the occupancy grid after phase 1 and at the end (final.nbvgrid)
+  map/clusters.ply             the phase-1 object clusters (label = cluster)
+  mid_range.ply                the phase-1 sweep cloud (with sensor origins)
+  objects/<name>/model.ply     the registered model (view property = view index)
+  objects/<name>/views/*.ply   each view as acquired (view_00 is the phase-1 cluster)
+  *.png                        scene, map front/back, view sequences, models before/after
+                               registration (skipped with a warning when no GPU adapter exists)
+Same scene and seed give the same report apart from the times.")]
+pub struct ExploreArgs {
+    /// Scene file, or the name of a built-in scene (paper-env1, paper-env2).
+    #[arg(long)]
+    pub scene: String,
+    /// Output directory (created; existing files in it are replaced).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// The method, or a baseline.
+    #[arg(long, value_enum, default_value_t = Mode::Hybrid)]
+    pub mode: Mode,
+    /// Overrides the scene's seed.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Skip the pictures.
+    #[arg(long)]
+    pub no_pictures: bool,
+    /// No progress bars.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// `--mode`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Mode {
+    /// Laser sweep, then next-best views with the depth camera (the paper's method).
+    Hybrid,
+    /// The laser sweep only.
+    MidOnly,
+}
+
+impl From<Mode> for ExploreMode {
+    fn from(m: Mode) -> Self {
+        match m {
+            Mode::Hybrid => ExploreMode::Hybrid,
+            Mode::MidOnly => ExploreMode::MidOnly,
+        }
+    }
+}
+
+/// Runs `nbv explore`.
+pub fn run(args: ExploreArgs) -> Result<()> {
+    let mut scene = super::scene::load(&args.scene)?;
+    if let Some(seed) = args.seed {
+        scene.seed = seed;
+    }
+    let report = run_episode(
+        &scene,
+        args.mode.into(),
+        &args.output,
+        !args.no_pictures,
+        args.quiet,
+    )?;
+    println!("{}", report.summary());
+    Ok(())
+}
+
+/// One exploration of `scene` in the twin, its outputs written into `out`.
+pub fn run_episode(
+    scene: &nbv_scenes::Scene,
+    mode: ExploreMode,
+    out: &Path,
+    pictures: bool,
+    quiet: bool,
+) -> Result<ExploreReport> {
+    let config = scene.explore_config(mode)?;
+    let robot = Robot::from_urdf_file(&scene.robot.urdf)
+        .with_context(|| format!("robot model {}", scene.robot.urdf.display()))?;
+    let base = scene.robot.base.to_pose();
+    let mut rig = SimRig::from_scene(scene).context("building the twin")?;
+    let mut observer = ProgressObserver::new(quiet);
+    let exploration = explore(
+        &robot,
+        &base,
+        &mut rig.arm,
+        &mut rig.scanner,
+        &mut rig.camera,
+        &config,
+        &mut observer,
+    )?;
+    observer.finish();
+    let report = evaluate(scene, &config, &exploration)?;
+    write_outputs(out, &exploration, &report)?;
+    if pictures {
+        super::explore_pictures::write(out, scene, &exploration, &report);
+    }
+    Ok(report)
+}
+
+fn write_outputs(
+    out: &Path,
+    exploration: &nbv_core::pipeline::Exploration,
+    report: &ExploreReport,
+) -> Result<()> {
+    if out.exists() && !out.is_dir() {
+        bail!("{}: exists and is not a directory", out.display());
+    }
+    std::fs::create_dir_all(out.join("map"))
+        .with_context(|| format!("creating {}", out.display()))?;
+    let opts = WriteOptions::default();
+    write_cloud(
+        out.join("mid_range.ply"),
+        &exploration.phase_one.cloud,
+        &opts,
+    )?;
+    write_grid(&out.join("map/grid.nbvgrid"), &exploration.phase_one.grid)?;
+    write_grid(&out.join("map/final.nbvgrid"), &exploration.grid)?;
+    for (object, entry) in exploration.objects.iter().zip(&report.objects) {
+        let dir = out.join("objects").join(&entry.name);
+        std::fs::create_dir_all(dir.join("views"))
+            .with_context(|| format!("creating {}", dir.display()))?;
+        write_cloud(dir.join("model.ply"), &object.model(), &opts)?;
+        write_cloud(dir.join("views/view_00.ply"), &object.cluster, &opts)?;
+        for (k, v) in object.views.iter().enumerate() {
+            write_cloud(
+                dir.join(format!("views/view_{:02}.ply", k + 1)),
+                &v.cloud,
+                &opts,
+            )?;
+        }
+    }
+    let json = serde_json::to_string_pretty(report)?;
+    nbv_scenes::paths::write_atomic(&out.join("report.json"), json.as_bytes())
+        .with_context(|| format!("writing {}", out.join("report.json").display()))?;
+    Ok(())
+}
+
+fn write_grid(path: &Path, grid: &nbv_core::occupancy::OccupancyGrid) -> Result<()> {
+    grid.save(path)
+        .with_context(|| format!("writing {}", path.display()))
+}

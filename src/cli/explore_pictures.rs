@@ -1,0 +1,112 @@
+//! The pictures of `nbv explore`: the scene, the map after phase 1 from the front and the
+//! back (Figures 7–8), each object's view sequence (Figure 9) and its model before and after
+//! registration coloured by view (Figure 11). Pictures only add to the run: without a GPU
+//! adapter, or if drawing fails, a warning is printed and the run goes on.
+
+use super::explore_report::ExploreReport;
+use anyhow::{Context, Result};
+use nbv_core::cloud::PointCloud;
+use nbv_core::occupancy::ReducedMap;
+use nbv_core::pipeline::Exploration;
+use nbv_scenes::Scene;
+use nbv_sim::render::{
+    Camera, CloudColoring, Color, LineSet, PointSet, RenderScene, Renderer, fitted_front_and_back,
+    front_and_back, map_items, save_png, scene_items,
+};
+use std::path::Path;
+
+const WIDTH: u32 = 1280;
+const HEIGHT: u32 = 960;
+
+/// Writes every picture into `out`; warns instead of failing.
+pub fn write(out: &Path, scene: &Scene, exploration: &Exploration, report: &ExploreReport) {
+    let renderer = match Renderer::new() {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("warning: pictures skipped: {e}");
+            return;
+        }
+    };
+    if let Err(e) = draw_all(&renderer, out, scene, exploration, report) {
+        eprintln!("warning: pictures incomplete: {e:#}");
+    }
+}
+
+fn draw_all(
+    renderer: &Renderer,
+    out: &Path,
+    scene: &Scene,
+    exploration: &Exploration,
+    report: &ExploreReport,
+) -> Result<()> {
+    let aspect = f64::from(WIDTH) / f64::from(HEIGHT);
+    let items = scene_items(scene).context("drawing the scene")?;
+    let (front, back) = fitted_front_and_back(&items, aspect);
+    draw(renderer, &items, &front, &out.join("scene.png"))?;
+    draw(renderer, &items, &back, &out.join("scene_back.png"))?;
+
+    let grid = &exploration.phase_one.grid;
+    let reduced = ReducedMap::from_grid(grid);
+    let g = grid.geometry();
+    let (front, back) = front_and_back(g.min(), g.max(), aspect);
+    let map = map_items(&reduced);
+    draw(renderer, &map, &front, &out.join("map_front.png"))?;
+    draw(renderer, &map, &back, &out.join("map_back.png"))?;
+
+    for (object, entry) in exploration.objects.iter().zip(&report.objects) {
+        let dir = out.join("objects").join(&entry.name);
+        // The view sequence: the object's points per view and each viewpoint's frustum.
+        let mut seq = RenderScene::new();
+        seq.add_points(PointSet::uniform(
+            object.cluster.points.clone(),
+            Color::categorical(0),
+            3.0,
+        ));
+        let mut lines = LineSet::new(2.0);
+        for (k, v) in object.views.iter().enumerate() {
+            let c = Color::categorical(k + 1);
+            seq.add_points(PointSet::uniform(v.cloud.points.clone(), c, 3.0));
+            lines.append(&LineSet::frustum(
+                &v.sensor_pose,
+                0.8,
+                0.62,
+                0.02,
+                0.12,
+                c,
+                2.0,
+            ));
+        }
+        seq.add_lines(lines);
+        let pts = seq.outline_points();
+        let camera = Camera::fit(&pts, std::f64::consts::PI, 0.5, aspect);
+        draw(renderer, &seq, &camera, &dir.join("views.png"))?;
+        // Models before and after registration, coloured by view, from the same camera.
+        let before = object.unregistered_model();
+        let after = object.model();
+        let camera = Camera::fit(&before.points, std::f64::consts::PI, 0.4, aspect);
+        draw_cloud(renderer, &before, &camera, &dir.join("model_before.png"))?;
+        draw_cloud(renderer, &after, &camera, &dir.join("model_after.png"))?;
+    }
+    Ok(())
+}
+
+fn draw_cloud(renderer: &Renderer, cloud: &PointCloud, camera: &Camera, path: &Path) -> Result<()> {
+    let coloring = if cloud.views.is_some() {
+        CloudColoring::ByView
+    } else {
+        CloudColoring::Uniform(Color::categorical(0))
+    };
+    let mut items = RenderScene::new();
+    items.add_points(PointSet::from_cloud(cloud, coloring, 3.0)?);
+    draw(renderer, &items, camera, path)
+}
+
+fn draw(renderer: &Renderer, items: &RenderScene, camera: &Camera, path: &Path) -> Result<()> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    let image = renderer
+        .render(items, camera, WIDTH, HEIGHT)
+        .with_context(|| format!("rendering {}", path.display()))?;
+    save_png(&image, path).with_context(|| format!("writing {}", path.display()))
+}

@@ -1,0 +1,408 @@
+//! [`ExploreReport`]: what `nbv explore` writes to `report.json` — the exploration
+//! measured against the twin's ground truth.
+
+use anyhow::Result;
+use nbv_core::evaluation::{point_error, surface_coverage};
+use nbv_core::math::Pose;
+use nbv_core::pipeline::{Exploration, ExploreConfig, ObjectExploration, ObjectStop, StepTimes};
+use nbv_core::rig::TruthLabel;
+use nbv_scenes::Scene;
+use serde::Serialize;
+
+/// Distance (m) within which a true surface sample counts as covered by the model.
+pub const COVERAGE_TOLERANCE: f64 = 0.01;
+/// Surface samples per object for the coverage.
+const COVERAGE_SAMPLES: usize = 20_000;
+/// Mean point error (m) above which a registration counts as failed.
+pub const FAILED_REGISTRATION_ERROR: f64 = 0.01;
+
+/// Times per step (seconds), as the paper's Table I.
+#[derive(Debug, Clone, Serialize)]
+pub struct Times {
+    motion: f64,
+    acquisition: f64,
+    segmentation: f64,
+    mapping: f64,
+    nbv: f64,
+    planning: f64,
+    registration: f64,
+    total: f64,
+}
+
+impl From<&StepTimes> for Times {
+    fn from(t: &StepTimes) -> Self {
+        Self {
+            motion: t.motion,
+            acquisition: t.acquisition,
+            segmentation: t.segmentation,
+            mapping: t.mapping,
+            nbv: t.nbv,
+            planning: t.planning,
+            registration: t.registration,
+            total: t.total(),
+        }
+    }
+}
+
+/// The error of registered points against their true positions.
+#[derive(Debug, Clone, Serialize)]
+pub struct RegistrationScore {
+    /// Mean point error (m).
+    pub mean: f64,
+    /// Standard deviation (m).
+    pub std: f64,
+    /// Whether the method reported convergence.
+    pub converged: bool,
+    /// Not converged, or a mean error above the failure threshold.
+    pub failed: bool,
+}
+
+/// One short-range view.
+#[derive(Debug, Clone, Serialize)]
+pub struct ViewEntry {
+    /// Sensor position (m) and roll/pitch/yaw (rad) of the viewpoint.
+    pub viewpoint: [f64; 6],
+    /// Eq. (4) score when chosen.
+    pub score: f64,
+    /// Predicted |O_v| unknown, occupied.
+    pub predicted_unknown: usize,
+    /// Predicted occupied voxels.
+    pub predicted_occupied: usize,
+    /// Eq. (5) gain.
+    pub gain: f64,
+    /// Bernoulli KL divergence over O_v.
+    pub gain_kl: f64,
+    /// Points in the frame, and on the object.
+    pub frame_points: usize,
+    /// Points kept for the object.
+    pub object_points: usize,
+    /// Viewpoints that failed before this one.
+    pub failures_before: usize,
+}
+
+/// One object.
+#[derive(Debug, Clone, Serialize)]
+pub struct ObjectEntry {
+    /// The true object's name (or `cluster-j` when the cluster is not one object).
+    pub name: String,
+    /// Phase-1 cluster index.
+    pub cluster: usize,
+    /// Points in the phase-1 cluster.
+    pub cluster_points: usize,
+    /// Short-range views taken.
+    pub views: Vec<ViewEntry>,
+    /// Viewpoints tried (taken + failed).
+    pub viewpoints_tried: usize,
+    /// Viewpoints that failed, with the reasons.
+    pub viewpoints_failed: Vec<String>,
+    /// Candidates evaluated over all rounds.
+    pub candidates_evaluated: usize,
+    /// Why exploration stopped.
+    pub stop: String,
+    /// Share of the true surface above the table within tolerance of the model.
+    pub coverage: Option<f64>,
+    /// Coverage of the phase-1 cluster alone.
+    pub coverage_mid_range: Option<f64>,
+    /// Mean point error of the views as acquired (no registration).
+    pub error_unregistered: Option<RegistrationScore>,
+    /// p-ICP-GPA.
+    pub error_gpa: Option<RegistrationScore>,
+    /// Sequential ICP.
+    pub error_icp: Option<RegistrationScore>,
+    /// Registration failure message, if any.
+    pub registration_error: Option<String>,
+    /// Times.
+    pub times: Times,
+}
+
+/// Phase 1 in numbers.
+#[derive(Debug, Clone, Serialize)]
+pub struct PhaseOneEntry {
+    /// Scan lines.
+    pub lines: usize,
+    /// Points in the mid-range cloud.
+    pub points: usize,
+    /// Clusters found.
+    pub clusters: usize,
+    /// Voxels: occupied, empty, unknown (after phase 1).
+    pub occupied: usize,
+    /// Empty voxels.
+    pub empty: usize,
+    /// Unknown voxels.
+    pub unknown: usize,
+    /// Reduced map: occupied + unknown-with-empty-neighbour voxels.
+    pub reduced_occupied: usize,
+    /// Unknown voxels in the reduced map.
+    pub reduced_unknown: usize,
+    /// Times.
+    pub times: Times,
+}
+
+/// The whole report.
+#[derive(Debug, Clone, Serialize)]
+pub struct ExploreReport {
+    /// Scene name.
+    pub scene: String,
+    /// Mode.
+    pub mode: String,
+    /// Seed.
+    pub seed: u64,
+    /// Phase 1.
+    pub phase_one: PhaseOneEntry,
+    /// Objects, in cluster order.
+    pub objects: Vec<ObjectEntry>,
+    /// Scene objects that no cluster was matched to.
+    pub missed_objects: Vec<String>,
+    /// Totals.
+    pub totals: Totals,
+    /// The configuration used (the scene file's sections).
+    pub config: serde_json::Value,
+}
+
+/// Totals over the objects.
+#[derive(Debug, Clone, Serialize)]
+pub struct Totals {
+    /// Short-range views.
+    pub views: usize,
+    /// Viewpoints that failed.
+    pub failed_viewpoints: usize,
+    /// Collisions the twin detected on executed paths (must be 0).
+    pub collisions: usize,
+    /// Mean coverage over the matched objects.
+    pub mean_coverage: f64,
+    /// Mean p-ICP-GPA error over objects (m).
+    pub mean_error_gpa: Option<f64>,
+    /// Mean sequential ICP error (m).
+    pub mean_error_icp: Option<f64>,
+    /// Registrations that failed, per method.
+    pub failed_gpa: usize,
+    /// Failed sequential ICP registrations.
+    pub failed_icp: usize,
+    /// Times summed over phase 1 and the objects.
+    pub times: Times,
+}
+
+impl ExploreReport {
+    /// A few lines for the terminal.
+    pub fn summary(&self) -> String {
+        let mut s = format!(
+            "{} ({}, seed {}): {} points in phase 1, {} object(s), {} view(s), {} collision(s)\n",
+            self.scene,
+            self.mode,
+            self.seed,
+            self.phase_one.points,
+            self.objects.len(),
+            self.totals.views,
+            self.totals.collisions
+        );
+        for o in &self.objects {
+            let mm = |e: &Option<RegistrationScore>| {
+                e.as_ref()
+                    .map_or("-".to_string(), |e| format!("{:.2} mm", e.mean * 1e3))
+            };
+            s += &format!(
+                "  {:<12} views {:>2}  failed {:>2}  coverage {:>5}  error gpa {:>9}  icp {:>9}  ({})\n",
+                o.name,
+                o.views.len(),
+                o.viewpoints_failed.len(),
+                o.coverage
+                    .map_or("-".into(), |c| format!("{:.1}%", c * 100.0)),
+                mm(&o.error_gpa),
+                mm(&o.error_icp),
+                o.stop
+            );
+        }
+        s
+    }
+}
+
+/// Measures `exploration` against the scene's truth.
+pub fn evaluate(
+    scene: &Scene,
+    config: &ExploreConfig,
+    exploration: &Exploration,
+) -> Result<ExploreReport> {
+    let meshes = scene.object_meshes()?;
+    let floor = scene.table.top() + 0.005;
+    let mut matched = vec![false; scene.objects.len()];
+    let mut objects = Vec::new();
+    for object in &exploration.objects {
+        let truth = true_object(object, scene);
+        if let Some(i) = truth {
+            matched[i] = true;
+        }
+        let name = truth.map_or(format!("cluster-{}", object.index), |i| {
+            scene.objects[i].name.clone()
+        });
+        let coverage_of = |model: &nbv_core::cloud::PointCloud| {
+            truth.map(|i| {
+                surface_coverage(
+                    &meshes[i],
+                    model,
+                    COVERAGE_TOLERANCE,
+                    floor,
+                    COVERAGE_SAMPLES,
+                    scene.seed,
+                )
+                .share()
+            })
+        };
+        let score = |poses: &[Pose], converged: bool, views: &[nbv_core::cloud::PointCloud]| {
+            let e = point_error(views, poses);
+            (e.points > 0).then(|| RegistrationScore {
+                mean: e.mean,
+                std: e.std,
+                converged,
+                failed: !converged || e.mean > FAILED_REGISTRATION_ERROR,
+            })
+        };
+        let (error_unregistered, error_gpa, error_icp) = match &object.registration {
+            Some(r) => (
+                score(&vec![Pose::identity(); r.views.len()], true, &r.views),
+                score(&r.gpa.poses, r.gpa.converged, &r.views),
+                score(&r.icp.poses, r.icp.converged, &r.views),
+            ),
+            None => (None, None, None),
+        };
+        objects.push(ObjectEntry {
+            name,
+            cluster: object.index,
+            cluster_points: object.cluster.len(),
+            views: object.views.iter().map(view_entry).collect(),
+            viewpoints_tried: object.views.len() + object.failures.len(),
+            viewpoints_failed: object.failures.iter().map(|f| f.reason.clone()).collect(),
+            candidates_evaluated: object.candidates_evaluated,
+            stop: stop_text(&object.stop),
+            coverage: coverage_of(&object.model()),
+            coverage_mid_range: coverage_of(&object.cluster),
+            error_unregistered,
+            error_gpa,
+            error_icp,
+            registration_error: object.registration_error.clone(),
+            times: Times::from(&object.times),
+        });
+    }
+    let mut total_times = exploration.phase_one.times;
+    for o in &exploration.objects {
+        total_times.add(&o.times);
+    }
+    let mean = |v: Vec<f64>| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
+    let coverages: Vec<f64> = objects.iter().filter_map(|o| o.coverage).collect();
+    let totals = Totals {
+        views: objects.iter().map(|o| o.views.len()).sum(),
+        failed_viewpoints: objects.iter().map(|o| o.viewpoints_failed.len()).sum(),
+        collisions: exploration.collisions,
+        mean_coverage: mean(coverages).unwrap_or(0.0),
+        mean_error_gpa: mean(
+            objects
+                .iter()
+                .filter_map(|o| o.error_gpa.as_ref().map(|e| e.mean))
+                .collect(),
+        ),
+        mean_error_icp: mean(
+            objects
+                .iter()
+                .filter_map(|o| o.error_icp.as_ref().map(|e| e.mean))
+                .collect(),
+        ),
+        failed_gpa: objects
+            .iter()
+            .filter(|o| o.error_gpa.as_ref().is_some_and(|e| e.failed))
+            .count(),
+        failed_icp: objects
+            .iter()
+            .filter(|o| o.error_icp.as_ref().is_some_and(|e| e.failed))
+            .count(),
+        times: Times::from(&total_times),
+    };
+    let p = &exploration.phase_one;
+    let counts = p.grid.state_counts();
+    Ok(ExploreReport {
+        scene: scene.name.clone(),
+        mode: exploration.mode.name().into(),
+        seed: scene.seed,
+        phase_one: PhaseOneEntry {
+            lines: p.lines,
+            points: p.cloud.len(),
+            clusters: exploration.objects.len(),
+            occupied: counts.occupied,
+            empty: counts.empty,
+            unknown: counts.unknown,
+            reduced_occupied: p.reduced.occupied,
+            reduced_unknown: p.reduced.unknown_crust,
+            times: Times::from(&p.times),
+        },
+        objects,
+        missed_objects: scene
+            .objects
+            .iter()
+            .zip(&matched)
+            .filter(|(_, m)| !**m)
+            .map(|(o, _)| o.name.clone())
+            .collect(),
+        totals,
+        config: config_json(scene, config),
+    })
+}
+
+fn view_entry(v: &nbv_core::pipeline::AcquiredView) -> ViewEntry {
+    let ([x, y, z], [r, p, w]) = nbv_core::math::pose_to_xyz_rpy(&v.viewpoint);
+    ViewEntry {
+        viewpoint: [x, y, z, r, p, w],
+        score: v.score,
+        predicted_unknown: v.predicted.0,
+        predicted_occupied: v.predicted.1,
+        gain: v.gain.total,
+        gain_kl: v.gain.bernoulli_kl,
+        frame_points: v.frame_points,
+        object_points: v.cloud.len(),
+        failures_before: v.failures_before,
+    }
+}
+
+fn stop_text(stop: &ObjectStop) -> String {
+    match stop {
+        ObjectStop::Rule(nbv_core::nbv::StopReason::LowGain { gain, threshold }) => {
+            format!("gain {gain:.3} below threshold {threshold}")
+        }
+        ObjectStop::Rule(nbv_core::nbv::StopReason::NoViewpoint) => "no viewpoint left".into(),
+        ObjectStop::MaxViews => "view cap reached".into(),
+        ObjectStop::NotExplored => "not explored (mid-only)".into(),
+    }
+}
+
+/// The scene object most of the cluster's points hit (by the truth labels), if more than
+/// half of them hit that object.
+fn true_object(object: &ObjectExploration, scene: &Scene) -> Option<usize> {
+    let labels = object.cluster.labels.as_ref()?;
+    let mut counts = vec![0usize; scene.objects.len()];
+    for &l in labels {
+        if let Some(TruthLabel::Object(i)) = TruthLabel::from_code(l)
+            && let Some(c) = counts.get_mut(i as usize)
+        {
+            *c += 1;
+        }
+    }
+    let (best, n) = counts
+        .iter()
+        .enumerate()
+        .max_by_key(|(i, n)| (**n, usize::MAX - i))?;
+    (2 * n > labels.len()).then_some(best)
+}
+
+/// The scene sections that drive the run, as JSON.
+fn config_json(scene: &Scene, config: &ExploreConfig) -> serde_json::Value {
+    serde_json::json!({
+        "nbv": scene.nbv,
+        "planner": scene.planner,
+        "registration": scene.registration,
+        "mapping": scene.mapping,
+        "segmentation": scene.segmentation,
+        "errors": scene.errors,
+        "mode": config.mode.name(),
+        "max_views_per_object": config.max_views_per_object,
+        "object_margin": config.object_margin,
+        "coverage_tolerance": COVERAGE_TOLERANCE,
+        "failed_registration_error": FAILED_REGISTRATION_ERROR,
+    })
+}
