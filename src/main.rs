@@ -17,6 +17,9 @@ struct Cli {
 enum Command {
     /// Scene files: validate, describe, generate random scenes, write the object meshes.
     Scene(cli::scene::SceneArgs),
+    /// Acquire on the twin: the phase-1 LMS400 sweep (`mid`) or one Dinast frame (`short`);
+    /// writes PLY/PCD clouds with sensor origins and ground truth, and PNG depth images.
+    Scan(cli::scan::ScanArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -26,6 +29,7 @@ fn main() -> std::process::ExitCode {
         .init();
     let result = match Cli::parse().command {
         Command::Scene(args) => cli::scene::run(args),
+        Command::Scan(args) => cli::scan::run(args),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

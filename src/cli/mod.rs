@@ -1,3 +1,4 @@
 //! The subcommands of `nbv`, one module each.
 
+pub mod scan;
 pub mod scene;
