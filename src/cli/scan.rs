@@ -67,7 +67,7 @@ enum ScanCommand {
     /// refused if it would touch anything there) so the Dinast camera is at VIEW, and the
     /// camera captures one 320×240 frame.
     ///
-    /// Example, looking straight down from 0.75 m: `nbv scan short --scene paper-env1
+    /// Example, looking straight down from 0.75 m above the floor: `nbv scan short --scene paper-env1
     /// --view "0.75 0 0.75 180 0 0" -o frame.ply --depth depth.png`
     Short {
         #[command(flatten)]
