@@ -26,6 +26,7 @@ pub mod error;
 pub mod generator;
 pub mod mesh_distance;
 pub mod meshgen;
+mod nbv_params;
 pub mod paths;
 pub mod placed;
 pub mod reachability;

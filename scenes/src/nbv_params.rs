@@ -1,0 +1,37 @@
+//! `[nbv]` as nbv-core's types: Algorithm 2's [`NbvParams`] and the [`StopRule`].
+
+use crate::schema::Nbv;
+use nbv_core::nbv::{GainMeasure, NbvParams, ScoreWeights, StopRule, ViewSphere};
+
+impl Nbv {
+    /// Algorithm 2's parameters: the sphere, eq. (4)'s weights, the ray subsampling.
+    ///
+    /// ```
+    /// let p = nbv_scenes::schema::Nbv::default().params();
+    /// assert_eq!((p.sphere.radius, p.weights.unknown, p.ray_stride), (0.3, 4.0, 8));
+    /// ```
+    pub fn params(&self) -> NbvParams {
+        NbvParams {
+            sphere: ViewSphere {
+                radius: self.radius,
+                delta_theta: self.dtheta_deg.to_radians(),
+                theta_max: self.theta_max_deg.to_radians(),
+                delta_phi: self.dphi_deg.to_radians(),
+            },
+            weights: ScoreWeights {
+                unknown: self.alpha_u,
+                occupied: self.alpha_o,
+            },
+            ray_stride: self.ray_subsample.max(1) as usize,
+            ..NbvParams::default()
+        }
+    }
+
+    /// The stop rule: eq. (5) against `gain_threshold`.
+    pub fn stop_rule(&self) -> StopRule {
+        StopRule {
+            gain_threshold: self.gain_threshold,
+            measure: GainMeasure::Eq5,
+        }
+    }
+}
