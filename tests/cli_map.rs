@@ -49,7 +49,10 @@ fn two_boxes_give_two_clusters_and_the_files() {
     let stdout = text(&o.stdout);
     assert!(o.status.success(), "{stdout}\n{}", text(&o.stderr));
     assert!(stdout.contains("clusters: 2 "), "{stdout}");
-    assert!(stdout.contains("grid: 60 x 70 x 30 = 126000 voxels"), "{stdout}");
+    assert!(
+        stdout.contains("grid: 60 x 70 x 30 = 126000 voxels"),
+        "{stdout}"
+    );
     assert!(stdout.contains("it removes"), "{stdout}");
 
     let s = stats(&out);
@@ -72,7 +75,10 @@ fn two_boxes_give_two_clusters_and_the_files() {
     let table = &s["segmentation"]["table"];
     // Least squares over the inliers, which include the boxes' lowest centimetre.
     assert!(table["normal"][2].as_f64().unwrap() > 0.9999, "{table}");
-    assert!((table["offset"].as_f64().unwrap() + 0.25).abs() < 1e-3, "{table}");
+    assert!(
+        (table["offset"].as_f64().unwrap() + 0.25).abs() < 1e-3,
+        "{table}"
+    );
 
     // The grid file: same geometry and the same counts as stats.json.
     let grid = OccupancyGrid::load(out.join("grid.nbvgrid")).unwrap();

@@ -10,7 +10,9 @@ use image::RgbaImage;
 use nalgebra::Point3;
 use nbv_core::cloud::PointCloud;
 use nbv_core::cloud::io::{WriteOptions, write_cloud};
-use nbv_sim::render::{Camera, Color, fitted_front_and_back, front_and_back, object_color, scene_items};
+use nbv_sim::render::{
+    Camera, Color, fitted_front_and_back, front_and_back, object_color, scene_items,
+};
 use std::path::Path;
 
 const W: u32 = 1280;
@@ -18,7 +20,12 @@ const H: u32 = 960;
 
 fn png(path: &Path) -> RgbaImage {
     let bytes = std::fs::read(path).unwrap();
-    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{} is not a PNG", path.display());
+    assert_eq!(
+        &bytes[..8],
+        b"\x89PNG\r\n\x1a\n",
+        "{} is not a PNG",
+        path.display()
+    );
     image::load_from_memory(&bytes).unwrap().to_rgba8()
 }
 
@@ -41,13 +48,20 @@ fn has_hue_of(c: [u8; 4], want: Color) -> bool {
         idx.sort_by_key(|&i| std::cmp::Reverse(v[i]));
         idx
     };
-    let spread = |v: [u8; 4]| i32::from(*v[..3].iter().max().unwrap()) - i32::from(*v[..3].iter().min().unwrap());
+    let spread = |v: [u8; 4]| {
+        i32::from(*v[..3].iter().max().unwrap()) - i32::from(*v[..3].iter().min().unwrap())
+    };
     order(c)[0] == order(w)[0] && spread(c) > spread(w) / 3
 }
 
 fn run_ok(args: &[&str]) -> String {
     let o = nbv(args);
-    assert!(o.status.success(), "nbv {args:?}: {}\n{}", text(&o.stdout), text(&o.stderr));
+    assert!(
+        o.status.success(),
+        "nbv {args:?}: {}\n{}",
+        text(&o.stdout),
+        text(&o.stderr)
+    );
     text(&o.stdout)
 }
 
@@ -56,7 +70,13 @@ fn scene_pictures_show_the_objects() {
     let tmp = tempfile::tempdir().unwrap();
     let (front, back) = (tmp.path().join("front.png"), tmp.path().join("back.png"));
     run_ok(&[
-        "render", "scene", "--scene", "paper-env1", "-o", front.to_str().unwrap(), "--back",
+        "render",
+        "scene",
+        "--scene",
+        "paper-env1",
+        "-o",
+        front.to_str().unwrap(),
+        "--back",
         back.to_str().unwrap(),
     ]);
     let (f, b) = (png(&front), png(&back));
@@ -101,7 +121,12 @@ fn cloud_pictures_colour_each_file() {
     write_cloud(&b, &on_table(true), &WriteOptions::default()).unwrap();
     let out = tmp.path().join("clouds.png");
     let stdout = run_ok(&[
-        "render", "cloud", a.to_str().unwrap(), b.to_str().unwrap(), "-o", out.to_str().unwrap(),
+        "render",
+        "cloud",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
     ]);
     assert!(stdout.contains("colour #"), "{stdout}");
     let img = png(&out);
@@ -121,23 +146,44 @@ fn map_pictures_show_occupied_voxels_red_and_unknown_grey() {
     let cloud = tmp.path().join("cloud.ply");
     write_cloud(&cloud, &synthetic_cloud(true), &WriteOptions::default()).unwrap();
     let map = tmp.path().join("map");
-    run_ok(&["map", "--cloud", cloud.to_str().unwrap(), "-o", map.to_str().unwrap()]);
+    run_ok(&[
+        "map",
+        "--cloud",
+        cloud.to_str().unwrap(),
+        "-o",
+        map.to_str().unwrap(),
+    ]);
     let (front, back) = (tmp.path().join("front.png"), tmp.path().join("back.png"));
     let stdout = run_ok(&[
-        "render", "map", map.to_str().unwrap(), "-o", front.to_str().unwrap(), "--back",
+        "render",
+        "map",
+        map.to_str().unwrap(),
+        "-o",
+        front.to_str().unwrap(),
+        "--back",
         back.to_str().unwrap(),
     ]);
     assert!(stdout.contains("unknown crust voxels"), "{stdout}");
     let (f, b) = (png(&front), png(&back));
     assert_eq!((f.dimensions(), b.dimensions()), ((W, H), (W, H)));
     // Cameras of the default workspace.
-    let (lo, hi) = (Point3::new(0.30, -0.70, 0.23), Point3::new(1.50, 0.70, 0.83));
+    let (lo, hi) = (
+        Point3::new(0.30, -0.70, 0.23),
+        Point3::new(1.50, 0.70, 0.83),
+    );
     let (cf, _) = front_and_back(lo, hi, f64::from(W) / f64::from(H));
     // The middle of each box's top face is an occupied voxel, seen from the front.
     for (blo, bhi) in BOXES {
-        let top = Point3::new((blo[0] + bhi[0]) / 2.0, (blo[1] + bhi[1]) / 2.0, bhi[2] + 0.01);
+        let top = Point3::new(
+            (blo[0] + bhi[0]) / 2.0,
+            (blo[1] + bhi[1]) / 2.0,
+            bhi[2] + 0.01,
+        );
         let c = pixel(&f, &cf, &top);
-        assert!(has_hue_of(c, Color::OCCUPIED) && c[0] > 120, "box top {c:?}");
+        assert!(
+            has_hue_of(c, Color::OCCUPIED) && c[0] > 120,
+            "box top {c:?}"
+        );
     }
     let grey = |img: &RgbaImage| {
         img.pixels()
@@ -147,13 +193,28 @@ fn map_pictures_show_occupied_voxels_red_and_unknown_grey() {
             })
             .count()
     };
-    let red = |img: &RgbaImage| img.pixels().filter(|p| has_hue_of(p.0, Color::OCCUPIED)).count();
+    let red = |img: &RgbaImage| {
+        img.pixels()
+            .filter(|p| has_hue_of(p.0, Color::OCCUPIED))
+            .count()
+    };
     for img in [&f, &b] {
-        assert!(red(img) > 20_000 && grey(img) > 20_000, "red {} grey {}", red(img), grey(img));
+        assert!(
+            red(img) > 20_000 && grey(img) > 20_000,
+            "red {} grey {}",
+            red(img),
+            grey(img)
+        );
         assert!(is_background(img.get_pixel(2, 2).0));
     }
 
-    let o = nbv(&["render", "map", tmp.path().to_str().unwrap(), "-o", front.to_str().unwrap()]);
+    let o = nbv(&[
+        "render",
+        "map",
+        tmp.path().to_str().unwrap(),
+        "-o",
+        front.to_str().unwrap(),
+    ]);
     assert!(!o.status.success());
     assert!(text(&o.stderr).contains("grid.nbvgrid"));
 }

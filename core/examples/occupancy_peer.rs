@@ -50,7 +50,10 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
-    let out = std::path::PathBuf::from(args.next().ok_or("usage: occupancy_peer OUTDIR [--runs N]")?);
+    let out = std::path::PathBuf::from(
+        args.next()
+            .ok_or("usage: occupancy_peer OUTDIR [--runs N]")?,
+    );
     let mut runs = 15usize;
     while let Some(a) = args.next() {
         match a.as_str() {
@@ -86,22 +89,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Ok(grid)
     };
     let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
-    let time = |f: &(dyn Fn() -> Result<OccupancyGrid, nbv_core::occupancy::OccupancyError> + Sync),
-                pool: Option<&rayon::ThreadPool>|
-     -> Result<(f64, OccupancyGrid), Box<dyn std::error::Error>> {
-        let mut times = Vec::with_capacity(runs);
-        let mut last = None;
-        for _ in 0..runs {
-            let t = Instant::now();
-            let g = match pool {
-                Some(p) => p.install(f)?,
-                None => f()?,
-            };
-            times.push(t.elapsed().as_secs_f64());
-            last = Some(g);
-        }
-        Ok((median(times), last.ok_or("no run")?))
-    };
+    let time =
+        |f: &(dyn Fn() -> Result<OccupancyGrid, nbv_core::occupancy::OccupancyError> + Sync),
+         pool: Option<&rayon::ThreadPool>|
+         -> Result<(f64, OccupancyGrid), Box<dyn std::error::Error>> {
+            let mut times = Vec::with_capacity(runs);
+            let mut last = None;
+            for _ in 0..runs {
+                let t = Instant::now();
+                let g = match pool {
+                    Some(p) => p.install(f)?,
+                    None => f()?,
+                };
+                times.push(t.elapsed().as_secs_f64());
+                last = Some(g);
+            }
+            Ok((median(times), last.ok_or("no run")?))
+        };
     let (t_one, grid_one) = time(&one_scan, None)?;
     let (t_one_1, _) = time(&one_scan, Some(&one_thread))?;
     let (t_line, grid_line) = time(&per_line, None)?;

@@ -80,9 +80,9 @@ fn config() -> PhaseOneConfig {
 }
 
 fn box_of(p: &Point3<f64>) -> Option<usize> {
-    BOXES.iter().position(|(lo, hi)| {
-        (0..3).all(|a| p[a] >= lo[a] - 0.005 && p[a] <= hi[a] + 0.005)
-    })
+    BOXES
+        .iter()
+        .position(|(lo, hi)| (0..3).all(|a| p[a] >= lo[a] - 0.005 && p[a] <= hi[a] + 0.005))
 }
 
 #[test]
@@ -98,7 +98,11 @@ fn one_cluster_per_box_and_a_consistent_map() {
         assert!(!seen[b], "two clusters on box {b}");
         seen[b] = true;
         // Every point of the cluster lies on its box.
-        assert!(k.indices.iter().all(|&i| box_of(&seg.filtered.points[i]) == Some(b)));
+        assert!(
+            k.indices
+                .iter()
+                .all(|&i| box_of(&seg.filtered.points[i]) == Some(b))
+        );
         assert!(k.min.z > TABLE_TOP + c.segmentation.plane_distance);
     }
     let t = seg.table.as_ref().unwrap();
@@ -126,22 +130,28 @@ fn one_cluster_per_box_and_a_consistent_map() {
     }
     // Space the rays cross above the table is empty; the shadow behind a box is unknown.
     assert_eq!(
-        m.grid.state(g.voxel_of(&Point3::new(0.5, 0.0, 0.6)).unwrap()),
+        m.grid
+            .state(g.voxel_of(&Point3::new(0.5, 0.0, 0.6)).unwrap()),
         Some(VoxelState::Empty)
     );
     assert_eq!(
-        m.grid.state(g.voxel_of(&Point3::new(0.95, 0.12, 0.28)).unwrap()),
+        m.grid
+            .state(g.voxel_of(&Point3::new(0.95, 0.12, 0.28)).unwrap()),
         Some(VoxelState::Unknown)
     );
     // Behind the panel (seen from the front only) is unknown.
     assert_eq!(
-        m.grid.state(g.voxel_of(&Point3::new(1.40, 0.0, 0.35)).unwrap()),
+        m.grid
+            .state(g.voxel_of(&Point3::new(1.40, 0.0, 0.35)).unwrap()),
         Some(VoxelState::Unknown)
     );
     assert_eq!(m.reduced, ReducedMap::from_grid(&m.grid));
     let s = m.reduced.stats();
     assert_eq!(s.grid, m.grid.state_counts());
-    assert!(s.removed_unknown_share > 0.3 && s.removed_unknown_share < 1.0, "{s:?}");
+    assert!(
+        s.removed_unknown_share > 0.3 && s.removed_unknown_share < 1.0,
+        "{s:?}"
+    );
 }
 
 #[test]
@@ -150,9 +160,7 @@ fn known_obstacles_are_left_out() {
     let mut c = config();
     // Without exclusion the panel is the third cluster; exclude it as a known obstacle.
     let (lo, hi) = BOXES[2];
-    c.exclude = vec![
-        OrientedBox::from_bounds(Point3::from(lo), Point3::from(hi)).inflated(0.02),
-    ];
+    c.exclude = vec![OrientedBox::from_bounds(Point3::from(lo), Point3::from(hi)).inflated(0.02)];
     let out = phase_one(&cloud, &c).unwrap();
     assert_eq!(out.segmentation.clusters.len(), 2);
     assert!(

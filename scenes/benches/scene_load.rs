@@ -8,7 +8,9 @@ use std::hint::black_box;
 use std::path::Path;
 
 fn env1_text() -> String {
-    nbv_scenes::builtin::text("paper-env1").expect("built-in scene").to_string()
+    nbv_scenes::builtin::text("paper-env1")
+        .expect("built-in scene")
+        .to_string()
 }
 
 fn benches(c: &mut Criterion) {

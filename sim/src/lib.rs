@@ -4,5 +4,5 @@
 //! simulated sensors cast their rays.
 
 mod convert;
-pub mod world;
 pub mod render;
+pub mod world;

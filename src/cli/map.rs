@@ -7,7 +7,9 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use nalgebra::Point3;
 use nbv_core::cloud::PointCloud;
-use nbv_core::cloud::io::{ReadOptions, WriteOptions, read_cloud_with, write_atomically, write_cloud};
+use nbv_core::cloud::io::{
+    ReadOptions, WriteOptions, read_cloud_with, write_atomically, write_cloud,
+};
 use nbv_core::occupancy::GridGeometry;
 use nbv_core::perception::{PhaseOne, PhaseOneConfig, SegmentationParams, phase_one};
 use nbv_scenes::schema::{Mapping, MidRangeSensor, Segmentation};
@@ -16,7 +18,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// The paper's workspace, used when no scene is given: 1.20 × 1.40 × 0.60 m at 2 cm.
-const DEFAULT_WORKSPACE: ([f64; 3], [f64; 3], f64) = ([0.30, -0.70, 0.23], [1.50, 0.70, 0.83], 0.02);
+const DEFAULT_WORKSPACE: ([f64; 3], [f64; 3], f64) =
+    ([0.30, -0.70, 0.23], [1.50, 0.70, 0.83], 0.02);
 
 /// Arguments of `nbv map`.
 #[derive(Debug, Args)]
@@ -103,7 +106,14 @@ pub fn run(args: MapArgs) -> Result<()> {
         .with_context(|| format!("phase 1 on {}", args.cloud.display()))?;
     let elapsed = start.elapsed().as_secs_f64();
 
-    print_summary(&args.cloud, &cloud, origin_source, &config, &result, elapsed);
+    print_summary(
+        &args.cloud,
+        &cloud,
+        origin_source,
+        &config,
+        &result,
+        elapsed,
+    );
 
     std::fs::create_dir_all(&args.output)
         .with_context(|| format!("creating {}", args.output.display()))?;
@@ -121,7 +131,14 @@ pub fn run(args: MapArgs) -> Result<()> {
     )
     .with_context(|| format!("writing {}", clusters_path.display()))?;
     let stats_path = args.output.join("stats.json");
-    let stats = stats_json(&args.cloud, &cloud, origin_source, scene_name.as_deref(), &config, &result);
+    let stats = stats_json(
+        &args.cloud,
+        &cloud,
+        origin_source,
+        scene_name.as_deref(),
+        &config,
+        &result,
+    );
     let text = serde_json::to_string_pretty(&stats).context("serialising the statistics")? + "\n";
     write_atomically(&stats_path, |w| {
         w.write_all(text.as_bytes())
@@ -158,7 +175,11 @@ fn default_config() -> Result<PhaseOneConfig> {
 }
 
 fn share(n: usize, total: usize) -> f64 {
-    if total == 0 { 0.0 } else { n as f64 / total as f64 }
+    if total == 0 {
+        0.0
+    } else {
+        n as f64 / total as f64
+    }
 }
 
 fn fmt_point(p: &Point3<f64>) -> String {
@@ -206,7 +227,11 @@ fn print_summary(
     }
     println!(
         "above the table: {} points; components dropped: {} below {} points, {} above {}",
-        c.above_table, c.small_components, p.min_cluster_points, c.large_components, p.max_cluster_points
+        c.above_table,
+        c.small_components,
+        p.min_cluster_points,
+        c.large_components,
+        p.max_cluster_points
     );
     println!("clusters: {} ({} points)", seg.clusters.len(), c.clustered);
     for (j, k) in seg.clusters.iter().enumerate() {

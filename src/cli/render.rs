@@ -7,8 +7,8 @@ use clap::{Args, Subcommand};
 use nbv_core::cloud::io::read_cloud;
 use nbv_core::occupancy::{OccupancyGrid, ReducedMap};
 use nbv_sim::render::{
-    Camera, Color, PointSet, RenderScene, Renderer, fitted_front_and_back, front_and_back,
-    UnknownVoxels, map_items, save_png, scene_items,
+    Camera, Color, PointSet, RenderScene, Renderer, UnknownVoxels, fitted_front_and_back,
+    front_and_back, map_items, save_png, scene_items,
 };
 use std::path::{Path, PathBuf};
 

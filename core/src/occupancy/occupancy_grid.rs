@@ -578,7 +578,11 @@ mod tests {
         let mut marks = vec![0u8; g.len()];
         for (o, q) in origins.iter().zip(&points) {
             let within = (q - o).norm() <= 3.0;
-            let end = if within { *q } else { o + (q - o).normalize() * 3.0 };
+            let end = if within {
+                *q
+            } else {
+                o + (q - o).normalize() * 3.0
+            };
             for c in g.traverse_segment(o, &end).unwrap() {
                 marks[c.linear] = marks[c.linear].max(MARK_FREE);
             }

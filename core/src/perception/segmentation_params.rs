@@ -74,13 +74,21 @@ impl SegmentationParams {
             return bad("outlier_std", self.outlier_std, "must be finite");
         }
         if !(self.plane_distance.is_finite() && self.plane_distance > 0.0) {
-            return bad("plane_distance", self.plane_distance, "must be finite and > 0");
+            return bad(
+                "plane_distance",
+                self.plane_distance,
+                "must be finite and > 0",
+            );
         }
         if self.plane_iterations == 0 {
             return bad("plane_iterations", 0.0, "must be >= 1");
         }
         if !(self.plane_max_tilt > 0.0 && self.plane_max_tilt <= std::f64::consts::FRAC_PI_2) {
-            return bad("plane_max_tilt", self.plane_max_tilt, "must be in (0, pi/2]");
+            return bad(
+                "plane_max_tilt",
+                self.plane_max_tilt,
+                "must be in (0, pi/2]",
+            );
         }
         if !(self.cluster_tolerance.is_finite() && self.cluster_tolerance > 0.0) {
             return bad(

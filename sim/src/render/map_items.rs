@@ -43,11 +43,17 @@ pub enum UnknownVoxels {
 /// assert_eq!(items.voxels[1].centers, vec![Point3::new(0.5, 0.5, 1.5)]); // under free space
 /// assert_eq!(map_items(&grid, &m, UnknownVoxels::Crust).voxels[1].centers.len(), 2);
 /// ```
-pub fn map_items(grid: &OccupancyGrid, reduced: &ReducedMap, unknown: UnknownVoxels) -> RenderScene {
+pub fn map_items(
+    grid: &OccupancyGrid,
+    reduced: &ReducedMap,
+    unknown: UnknownVoxels,
+) -> RenderScene {
     let g = grid.geometry();
     let [nx, ny, nz] = g.dims();
     let centers = |list: &mut dyn Iterator<Item = usize>| -> Vec<Point3<f64>> {
-        list.filter_map(|l| g.unlinear(l)).map(|v| g.center(v)).collect()
+        list.filter_map(|l| g.unlinear(l))
+            .map(|v| g.center(v))
+            .collect()
     };
     // Per column, one above the highest empty voxel (0 when the column has none).
     let mut top_empty = vec![0usize; nx * ny];

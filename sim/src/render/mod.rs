@@ -63,8 +63,8 @@ pub use render_scene::RenderScene;
 pub use renderer::{Renderer, RendererOptions};
 pub use scene_items::{
     BACK_AZIMUTH, FRONT_AZIMUTH, OBSTACLE_COLOR, ROBOT_COLOR, SceneItemsError, TABLE_COLOR,
-    UNKNOWN_OBSTACLE_COLOR, VIEW_ELEVATION, WORKSPACE_COLOR, fitted_front_and_back,
-    front_and_back, object_color, robot_items, scene_items, workspace_bounds,
+    UNKNOWN_OBSTACLE_COLOR, VIEW_ELEVATION, WORKSPACE_COLOR, fitted_front_and_back, front_and_back,
+    object_color, robot_items, scene_items, workspace_bounds,
 };
 pub use voxel_set::VoxelSet;
 /// wgpu's backend flags, for [`RendererOptions::backends`].

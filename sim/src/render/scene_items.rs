@@ -124,13 +124,12 @@ fn link_mesh(g: &LinkGeometry, urdf_dir: &Path) -> Result<(TriMesh, bool), Scene
         }
         Shape::Mesh { filename, scale } => {
             let file = resolve_mesh(filename, urdf_dir);
-            let mut m = nbv_core::mesh::io::read_mesh(&file).map_err(|e| {
-                SceneItemsError::LinkMesh {
+            let mut m =
+                nbv_core::mesh::io::read_mesh(&file).map_err(|e| SceneItemsError::LinkMesh {
                     link: g.link.clone(),
                     file: file.clone(),
                     detail: e.to_string(),
-                }
-            })?;
+                })?;
             for v in &mut m.vertices {
                 *v = Point3::new(v.x * scale[0], v.y * scale[1], v.z * scale[2]);
             }
@@ -173,12 +172,11 @@ fn resolve_mesh(filename: &str, urdf_dir: &Path) -> PathBuf {
 /// ```
 pub fn scene_items(scene: &Scene) -> Result<RenderScene, SceneItemsError> {
     let mut items = RenderScene::new();
-    let robot = Robot::from_urdf_file(&scene.robot.urdf).map_err(|source| {
-        SceneItemsError::Robot {
+    let robot =
+        Robot::from_urdf_file(&scene.robot.urdf).map_err(|source| SceneItemsError::Robot {
             scene: scene.name.clone(),
             source,
-        }
-    })?;
+        })?;
     let urdf_dir = scene
         .robot
         .urdf
@@ -204,7 +202,11 @@ pub fn scene_items(scene: &Scene) -> Result<RenderScene, SceneItemsError> {
     }
     let objects = scene.object_meshes().map_err(Box::new)?;
     for (i, mesh) in objects.into_iter().enumerate() {
-        items.add_mesh(MeshItem::smooth(mesh, Isometry3::identity(), object_color(i)));
+        items.add_mesh(MeshItem::smooth(
+            mesh,
+            Isometry3::identity(),
+            object_color(i),
+        ));
     }
     let (lo, hi) = workspace_bounds(scene);
     items.add_lines(LineSet::aabb(lo, hi, WORKSPACE_COLOR, 1.5));
