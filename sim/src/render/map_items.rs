@@ -58,9 +58,9 @@ pub fn map_items(
     // Per column, one above the highest empty voxel (0 when the column has none).
     let mut top_empty = vec![0usize; nx * ny];
     for z in 0..nz {
-        for c in 0..nx * ny {
+        for (c, top) in top_empty.iter_mut().enumerate() {
             if grid.state_linear(c + nx * ny * z) == Some(VoxelState::Empty) {
-                top_empty[c] = z + 1;
+                *top = z + 1;
             }
         }
     }
