@@ -218,3 +218,38 @@ fn map_pictures_show_occupied_voxels_red_and_unknown_grey() {
     assert!(!o.status.success());
     assert!(text(&o.stderr).contains("grid.nbvgrid"));
 }
+
+#[test]
+fn without_an_adapter_render_fails_naming_mesa_and_map_only_warns() {
+    let tmp = tempfile::tempdir().unwrap();
+    let png_path = tmp.path().join("scene.png");
+    // No Metal on Linux: wgpu finds no adapter at all.
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_nbv"))
+        .args(["render", "scene", "--scene", "paper-env1", "-o"])
+        .arg(&png_path)
+        .env("WGPU_BACKEND", "metal")
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("no GPU adapter") && err.contains("mesa-vulkan-drivers"),
+        "{err}"
+    );
+    assert!(!png_path.exists());
+
+    let cloud = tmp.path().join("cloud.ply");
+    write_cloud(&cloud, &synthetic_cloud(true), &WriteOptions::default()).unwrap();
+    let map = tmp.path().join("map");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_nbv"))
+        .args(["map", "--pictures", "--cloud"])
+        .arg(&cloud)
+        .arg("-o")
+        .arg(&map)
+        .env("WGPU_BACKEND", "metal")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains("warning: pictures skipped: no GPU adapter"));
+    assert!(map.join("grid.nbvgrid").exists() && !map.join("map_front.png").exists());
+}
