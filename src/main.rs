@@ -20,16 +20,27 @@ enum Command {
     /// Acquire on the twin: the phase-1 LMS400 sweep (`mid`) or one Dinast frame (`short`);
     /// writes PLY/PCD clouds with sensor origins and ground truth, and PNG depth images.
     Scan(cli::scan::ScanArgs),
+    /// Phase 1 on a mid-range cloud: object clusters, occupancy grid and reduced map.
+    Map(cli::map::MapArgs),
+    /// PNG pictures of a scene, of point clouds, or of an occupancy map (headless).
+    Render(cli::render::RenderArgs),
 }
 
 fn main() -> std::process::ExitCode {
     tracing_subscriber::fmt()
-        .with_env_filter(tracing_subscriber::EnvFilter::from_default_env())
+        // RUST_LOG overrides; by default warnings, but not wgpu-hal's complaints about
+        // backends it probes and drops (a missing adapter is reported as an error anyway).
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env()
+                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("warn,wgpu_hal=off")),
+        )
         .with_writer(std::io::stderr)
         .init();
     let result = match Cli::parse().command {
         Command::Scene(args) => cli::scene::run(args),
         Command::Scan(args) => cli::scan::run(args),
+        Command::Map(args) => cli::map::run(args),
+        Command::Render(args) => cli::render::run(args),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -1,5 +1,6 @@
 //! Occupancy benchmarks at the paper's scale: one 55K-ray mid-range sweep into the
-//! 60×70×30 grid of 2 cm voxels, the reduced map of the result, and raw DDA traversal.
+//! 60×70×30 grid of 2 cm voxels, the reduced map of the result, raw DDA traversal, and the
+//! whole of phase 1 (segmentation, grid, reduced map) on the same cloud.
 //!
 //! The scene is synthetic and analytic: a floor/table plane at z = 0.25 m with boxes on it,
 //! swept by a line scanner (275 lines × 200 rays, 70° fan) moving along y about 1 m above.
@@ -7,18 +8,15 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use nalgebra::{Point3, Vector3};
+use nalgebra::Point3;
+use nbv_core::cloud::PointCloud;
 use nbv_core::occupancy::{GridGeometry, OccupancyGrid, OccupancyParams, ReducedMap};
+use nbv_core::perception::{PhaseOneConfig, phase_one};
 
-/// Axis-aligned boxes standing on the table: (min, max).
-const BOXES: [([f64; 3], [f64; 3]); 5] = [
-    ([0.55, -0.40, 0.25], [0.70, -0.25, 0.45]),
-    ([0.80, -0.10, 0.25], [0.90, 0.05, 0.55]),
-    ([0.60, 0.20, 0.25], [0.75, 0.32, 0.35]),
-    ([1.00, 0.35, 0.25], [1.12, 0.50, 0.40]),
-    ([1.30, -0.60, 0.25], [1.40, 0.60, 0.70]),
-];
-const TABLE_Z: f64 = 0.25;
+#[path = "support/synthetic_sweep.rs"]
+mod synthetic_sweep;
+
+use synthetic_sweep::sweep;
 
 fn paper_geometry() -> GridGeometry {
     GridGeometry::new(
@@ -27,54 +25,6 @@ fn paper_geometry() -> GridGeometry {
         0.02,
     )
     .unwrap()
-}
-
-/// Nearest hit of a ray with the table plane and the boxes.
-fn cast(o: &Point3<f64>, d: &Vector3<f64>) -> Option<f64> {
-    let mut best = if d.z < 0.0 {
-        Some((TABLE_Z - o.z) / d.z)
-    } else {
-        None
-    };
-    for (lo, hi) in BOXES {
-        let (mut t0, mut t1) = (0.0f64, f64::INFINITY);
-        for a in 0..3 {
-            if d[a] == 0.0 {
-                if o[a] < lo[a] || o[a] > hi[a] {
-                    t0 = f64::INFINITY;
-                }
-                continue;
-            }
-            let (ta, tb) = ((lo[a] - o[a]) / d[a], (hi[a] - o[a]) / d[a]);
-            t0 = t0.max(ta.min(tb));
-            t1 = t1.min(ta.max(tb));
-        }
-        if t0 <= t1 && best.is_none_or(|b| t0 < b) {
-            best = Some(t0);
-        }
-    }
-    best
-}
-
-/// The sweep: (origins, points) of every return within the LMS400's 0.7–3.0 m.
-fn sweep() -> (Vec<Point3<f64>>, Vec<Point3<f64>>) {
-    let (lines, rays) = (275, 200);
-    let fov = 70f64.to_radians();
-    let mut origins = Vec::new();
-    let mut points = Vec::new();
-    for l in 0..lines {
-        let o = Point3::new(0.10, -0.55 + 1.1 * l as f64 / (lines - 1) as f64, 1.20);
-        for r in 0..rays {
-            // Angle from the vertical, in the x–z plane: 0° (straight down) to 70° (forward).
-            let a = fov * r as f64 / (rays - 1) as f64;
-            let d = Vector3::new(a.sin(), 0.0, -a.cos());
-            if let Some(t) = cast(&o, &d).filter(|t| (0.7..=3.0).contains(t)) {
-                origins.push(o);
-                points.push(o + d * t);
-            }
-        }
-    }
-    (origins, points)
 }
 
 fn benches(c: &mut Criterion) {
@@ -132,9 +82,33 @@ fn benches(c: &mut Criterion) {
     });
 }
 
+/// The whole of phase 1 (segmentation with the default parameters, grid, reduced map) on
+/// the same sweep.
+fn phase_one_bench(c: &mut Criterion) {
+    let (origins, points) = sweep();
+    let mut cloud = PointCloud::from_points(points);
+    cloud.origins = Some(origins);
+    let config = PhaseOneConfig::new(paper_geometry());
+    let out = phase_one(&cloud, &config).unwrap();
+    eprintln!(
+        "phase 1: {} clusters, counts {:?}",
+        out.segmentation.clusters.len(),
+        out.segmentation.counts
+    );
+    c.bench_function("phase_one/paper_55k_sweep", |b| {
+        b.iter(|| black_box(phase_one(black_box(&cloud), &config).unwrap()))
+    });
+}
+
+criterion_group! {
+    name = phase;
+    config = Criterion::default().sample_size(10);
+    targets = phase_one_bench
+}
+
 criterion_group! {
     name = occupancy;
     config = Criterion::default().sample_size(30);
     targets = benches
 }
-criterion_main!(occupancy);
+criterion_main!(occupancy, phase);

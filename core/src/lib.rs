@@ -18,5 +18,6 @@ pub mod mesh;
 pub mod nbv;
 pub mod occupancy;
 pub mod planning;
+pub mod perception;
 pub mod registration;
 pub mod rig;

@@ -28,6 +28,7 @@ pub mod mesh_distance;
 pub mod meshgen;
 mod nbv_params;
 pub mod paths;
+pub mod pipeline_params;
 pub mod placed;
 pub mod reachability;
 pub mod scene;

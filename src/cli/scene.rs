@@ -167,7 +167,7 @@ pub fn run(args: SceneArgs) -> Result<()> {
 }
 
 /// A scene from a path, or a built-in one by name when no such file exists.
-pub(crate) fn load(scene: &str) -> Result<Scene> {
+pub fn load(scene: &str) -> Result<Scene> {
     let path = Path::new(scene);
     if !path.exists() && nbv_scenes::builtin::text(scene).is_some() {
         return nbv_scenes::builtin::load(scene).with_context(|| format!("built-in scene {scene}"));

@@ -157,6 +157,87 @@ impl Camera {
         cam
     }
 
+    /// Frames a set of points (for example every vertex a picture draws) from the direction
+    /// given by `azimuth` and `elevation` (as in [`Camera::orbit`]): the view direction is
+    /// fixed, the target is moved so that the points' picture is centred, and the distance
+    /// is the smallest at which every point fits in an image of aspect `width / height`
+    /// with a small margin. Tighter than [`Camera::framing`] of the points' bounding box,
+    /// which leaves the box's empty corners in the picture. Non-finite points are ignored;
+    /// without a finite point it frames the unit cube at the origin.
+    ///
+    /// ```
+    /// use nbv_sim::render::Camera;
+    /// use nalgebra::Point3;
+    /// let pts: Vec<_> = (0..20).map(|i| Point3::new(1.0, i as f64 * 0.1, (i % 3) as f64 * 0.2)).collect();
+    /// let cam = Camera::fit(&pts, 3.0, 0.4, 4.0 / 3.0);
+    /// let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+    /// for p in &pts {
+    ///     let q = cam.project(p, 1280, 960).unwrap();
+    ///     assert!(q.x > 0.0 && q.x < 1280.0 && q.y > 0.0 && q.y < 960.0);
+    ///     lo = [lo[0].min(q.x), lo[1].min(q.y)];
+    ///     hi = [hi[0].max(q.x), hi[1].max(q.y)];
+    /// }
+    /// // Centred, and filling the image along at least one axis.
+    /// assert!(((lo[0] + hi[0]) / 2.0 - 640.0).abs() < 8.0 && ((lo[1] + hi[1]) / 2.0 - 480.0).abs() < 8.0);
+    /// assert!(hi[0] - lo[0] > 1100.0 || hi[1] - lo[1] > 820.0);
+    /// ```
+    pub fn fit(points: &[Point3<f64>], azimuth: f64, elevation: f64, aspect: f64) -> Self {
+        let finite: Vec<Point3<f64>> = points
+            .iter()
+            .filter(|p| p.coords.iter().all(|v| v.is_finite()))
+            .copied()
+            .collect();
+        let Some(first) = finite.first() else {
+            return Self::framing(
+                Point3::origin(),
+                Point3::new(1.0, 1.0, 1.0),
+                azimuth,
+                elevation,
+                aspect,
+            );
+        };
+        let (lo, hi) = finite
+            .iter()
+            .fold((*first, *first), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
+        let aspect = if aspect.is_finite() && aspect > 0.0 {
+            aspect
+        } else {
+            4.0 / 3.0
+        };
+        let mut cam = Self::orbit(nalgebra::center(&lo, &hi), 1.0, azimuth, elevation);
+        let (right, up, forward) = cam.basis();
+        let tan_y = (cam.fov_y / 2.0).tan() * FRAMING_FILL;
+        let tan_x = tan_y * aspect;
+        let radius = ((hi - lo).norm() / 2.0).max(1e-6);
+        // The nearest distance at which every point fits, for a given target.
+        let fit_distance = |target: Point3<f64>| {
+            finite.iter().fold(1e-3f64, |d, p| {
+                let o = p - target;
+                let along = o.dot(&forward);
+                d.max(o.dot(&right).abs() / tan_x - along)
+                    .max(o.dot(&up).abs() / tan_y - along)
+            })
+        };
+        for _ in 0..6 {
+            // Centre the picture: move the target sideways by the middle of the points'
+            // extent in normalised image coordinates, scaled to the target's depth.
+            let distance = fit_distance(cam.target);
+            let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+            for p in &finite {
+                let o = p - cam.target;
+                let depth = (distance + o.dot(&forward)).max(1e-9);
+                let (x, y) = (o.dot(&right) / depth, o.dot(&up) / depth);
+                (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+            }
+            cam.target += right * ((x0 + x1) / 2.0 * distance) + up * ((y0 + y1) / 2.0 * distance);
+        }
+        let distance = fit_distance(cam.target);
+        cam.eye = cam.target - forward * distance;
+        cam.near = (distance - 4.0 * radius).max(distance * 0.01).max(0.01);
+        cam.far = distance + 8.0 * radius + 1.0;
+        cam
+    }
+
     /// The camera's right, up and forward unit vectors in world coordinates. A degenerate
     /// `up` (zero, or parallel to the viewing direction) is replaced by another axis.
     pub fn basis(&self) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {

@@ -9,6 +9,10 @@
 //! whose message names the packages to install; [`Renderer::optional`] logs that as a
 //! warning instead, for commands whose pictures are a by-product.
 //!
+//! Adapters turn the project's data into drawables: [`scene_items`] (robot at home, table,
+//! obstacles, objects), [`robot_items`], [`map_items`] (the reduced map, Figures 7–8),
+//! with [`front_and_back`] cameras.
+//!
 //! World coordinates are the robot base frame (x forward, y left, z up), in metres.
 //!
 //! ```no_run
@@ -35,12 +39,14 @@ mod error;
 mod gpu_data;
 mod lighting;
 mod line_set;
+mod map_items;
 mod mesh_item;
 mod pipelines;
 mod png_file;
 mod point_set;
 mod render_scene;
 mod renderer;
+mod scene_items;
 pub mod tessellate;
 mod voxel_set;
 
@@ -49,11 +55,17 @@ pub use color::Color;
 pub use error::RenderError;
 pub use lighting::Lighting;
 pub use line_set::LineSet;
+pub use map_items::{UnknownVoxels, map_items};
 pub use mesh_item::{MeshItem, Shading};
 pub use png_file::save_png;
 pub use point_set::{CloudColoring, PointSet};
 pub use render_scene::RenderScene;
 pub use renderer::{Renderer, RendererOptions};
+pub use scene_items::{
+    BACK_AZIMUTH, FRONT_AZIMUTH, OBSTACLE_COLOR, ROBOT_COLOR, SceneItemsError, TABLE_COLOR,
+    UNKNOWN_OBSTACLE_COLOR, VIEW_ELEVATION, WORKSPACE_COLOR, fitted_front_and_back, front_and_back,
+    object_color, robot_items, scene_items, workspace_bounds,
+};
 pub use voxel_set::VoxelSet;
 /// wgpu's backend flags, for [`RendererOptions::backends`].
 pub use wgpu::Backends;

@@ -83,39 +83,45 @@ impl RenderScene {
             && self.lines.iter().all(|l| l.segments.is_empty())
     }
 
-    /// Axis-aligned bounds `(min, max)` of everything drawn (finite coordinates only), or
-    /// `None` for an empty scene.
-    pub fn bounds(&self) -> Option<(Point3<f64>, Point3<f64>)> {
-        let mut acc: Option<(Point3<f64>, Point3<f64>)> = None;
-        let mut add = |p: Point3<f64>| {
-            if p.coords.iter().all(|v| v.is_finite()) {
-                acc = Some(match acc {
-                    None => (p, p),
-                    Some((lo, hi)) => (lo.inf(&p), hi.sup(&p)),
-                });
-            }
-        };
+    /// Every point that outlines what is drawn, in world coordinates: mesh vertices
+    /// (placed), points, voxel cube corners and line end points — for framing cameras.
+    pub fn outline_points(&self) -> Vec<Point3<f64>> {
+        let mut out = Vec::new();
         for m in &self.meshes {
-            for v in &m.mesh.vertices {
-                add(m.pose * v);
-            }
+            out.extend(m.mesh.vertices.iter().map(|v| m.pose * v));
         }
         for p in &self.points {
-            p.points.iter().copied().for_each(&mut add);
+            out.extend_from_slice(&p.points);
         }
         for v in &self.voxels {
             let h = v.size.abs() / 2.0;
             for c in &v.centers {
-                add(c - nalgebra::Vector3::repeat(h));
-                add(c + nalgebra::Vector3::repeat(h));
+                for i in 0..8 {
+                    let s = |bit: usize| if i & bit == 0 { -h } else { h };
+                    out.push(c + nalgebra::Vector3::new(s(1), s(2), s(4)));
+                }
             }
         }
         for l in &self.lines {
             for [a, b] in &l.segments {
-                add(*a);
-                add(*b);
+                out.push(*a);
+                out.push(*b);
             }
         }
-        acc
+        out
+    }
+
+    /// Axis-aligned bounds `(min, max)` of everything drawn (finite coordinates only), or
+    /// `None` for an empty scene.
+    pub fn bounds(&self) -> Option<(Point3<f64>, Point3<f64>)> {
+        self.outline_points()
+            .into_iter()
+            .filter(|p| p.coords.iter().all(|v| v.is_finite()))
+            .fold(None, |acc, p| {
+                Some(match acc {
+                    None => (p, p),
+                    Some((lo, hi)) => (lo.inf(&p), hi.sup(&p)),
+                })
+            })
     }
 }

@@ -1,0 +1,380 @@
+//! `nbv map`: phase 1 on a mid-range cloud file — object clusters, the occupancy grid and
+//! its reduced map — printed as statistics and written as `grid.nbvgrid`, `clusters.ply`
+//! and `stats.json`. The pipeline itself is `nbv_core::perception::phase_one`; this file
+//! only reads, prints and writes.
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use nalgebra::Point3;
+use nbv_core::cloud::PointCloud;
+use nbv_core::cloud::io::{
+    ReadOptions, WriteOptions, read_cloud_with, write_atomically, write_cloud,
+};
+use nbv_core::occupancy::GridGeometry;
+use nbv_core::perception::{PhaseOne, PhaseOneConfig, SegmentationParams, phase_one};
+use nbv_scenes::schema::{Mapping, MidRangeSensor, Segmentation};
+use serde_json::{Value, json};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The paper's workspace, used when no scene is given: 1.20 × 1.40 × 0.60 m at 2 cm.
+const DEFAULT_WORKSPACE: ([f64; 3], [f64; 3], f64) =
+    ([0.30, -0.70, 0.23], [1.50, 0.70, 0.83], 0.02);
+
+/// Arguments of `nbv map`.
+#[derive(Debug, Args)]
+pub struct MapArgs {
+    /// The accumulated mid-range cloud (PLY or PCD), in the world frame, with per-point
+    /// sensor origins (PLY `ox oy oz`, PCD `vp_x vp_y vp_z` or a non-identity VIEWPOINT).
+    #[arg(long)]
+    cloud: PathBuf,
+    /// Output directory (created if missing): grid.nbvgrid, clusters.ply, stats.json.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Scene file or built-in scene name: its workspace, [mapping], [segmentation],
+    /// mid-range maximum range and known obstacles (left out of the clusters). Without
+    /// it: the paper's workspace [0.30,-0.70,0.23]..[1.50,0.70,0.83] at 0.02 m and the
+    /// schema's defaults.
+    #[arg(long)]
+    scene: Option<String>,
+    /// Sensor origin `x,y,z` (m) of every point, for a cloud taken from one position; it
+    /// replaces the cloud's own origins if it has some.
+    #[arg(long, value_parser = parse_xyz, allow_hyphen_values = true)]
+    origin: Option<Point3<f64>>,
+    /// Also draw the reduced map from the front and the back (map_front.png,
+    /// map_back.png); without a GPU or Mesa this only warns.
+    #[arg(long)]
+    pictures: bool,
+}
+
+/// Parses `x,y,z`.
+pub fn parse_xyz(s: &str) -> Result<Point3<f64>, String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("`{s}`: {e} (expected x,y,z in metres)"))?;
+    match v[..] {
+        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Point3::new(x, y, z)),
+        _ => Err(format!("`{s}`: expected three finite numbers x,y,z")),
+    }
+}
+
+/// Runs `nbv map`.
+pub fn run(args: MapArgs) -> Result<()> {
+    let (config, scene_name) = match &args.scene {
+        Some(s) => {
+            let scene = super::scene::load(s)?;
+            let config = scene
+                .phase_one_config()
+                .with_context(|| format!("phase-1 parameters of {s}"))?;
+            (config, Some(scene.name))
+        }
+        None => (default_config()?, None),
+    };
+    let file = read_cloud_with(&args.cloud, &ReadOptions::default())
+        .with_context(|| format!("reading {}", args.cloud.display()))?;
+    let mut cloud = file.cloud;
+    if file.dropped_non_finite > 0 {
+        eprintln!(
+            "note: {} points with non-finite coordinates were dropped",
+            file.dropped_non_finite
+        );
+    }
+    let origin_source = match (args.origin, cloud.origins.is_some()) {
+        (Some(o), had) => {
+            if had {
+                eprintln!("note: --origin replaces the cloud's own sensor origins");
+            }
+            cloud.origins = Some(vec![o; cloud.len()]);
+            "--origin"
+        }
+        (None, true) => "cloud",
+        (None, false) => bail!(
+            "{}: the cloud has no per-point sensor origins (PLY `ox oy oz`, PCD `vp_x vp_y \
+             vp_z` or VIEWPOINT), so its rays cannot be cast into the occupancy grid; give \
+             the sensor position with --origin x,y,z",
+            args.cloud.display()
+        ),
+    };
+    if cloud.is_empty() {
+        bail!("{}: the cloud has no points", args.cloud.display());
+    }
+
+    let start = Instant::now();
+    let result = phase_one(&cloud, &config)
+        .with_context(|| format!("phase 1 on {}", args.cloud.display()))?;
+    let elapsed = start.elapsed().as_secs_f64();
+
+    print_summary(
+        &args.cloud,
+        &cloud,
+        origin_source,
+        &config,
+        &result,
+        elapsed,
+    );
+
+    std::fs::create_dir_all(&args.output)
+        .with_context(|| format!("creating {}", args.output.display()))?;
+    let grid_path = args.output.join("grid.nbvgrid");
+    result
+        .map
+        .grid
+        .save(&grid_path)
+        .with_context(|| format!("writing {}", grid_path.display()))?;
+    let clusters_path = args.output.join("clusters.ply");
+    write_cloud(
+        &clusters_path,
+        &result.segmentation.labelled_clusters(),
+        &WriteOptions::default(),
+    )
+    .with_context(|| format!("writing {}", clusters_path.display()))?;
+    let stats_path = args.output.join("stats.json");
+    let stats = stats_json(
+        &args.cloud,
+        &cloud,
+        origin_source,
+        scene_name.as_deref(),
+        &config,
+        &result,
+    );
+    let text = serde_json::to_string_pretty(&stats).context("serialising the statistics")? + "\n";
+    write_atomically(&stats_path, |w| {
+        w.write_all(text.as_bytes())
+            .map_err(nbv_core::cloud::io::CloudIoError::from)
+    })
+    .with_context(|| format!("writing {}", stats_path.display()))?;
+    println!(
+        "wrote {}, {}, {}",
+        grid_path.display(),
+        clusters_path.display(),
+        stats_path.display()
+    );
+    if args.pictures {
+        super::render::map_pictures_or_warn(
+            &result.map.grid,
+            &result.map.reduced,
+            &args.output.join("map_front.png"),
+            &args.output.join("map_back.png"),
+        );
+    }
+    Ok(())
+}
+
+/// Phase 1 without a scene: the paper's workspace and the scene schema's defaults.
+fn default_config() -> Result<PhaseOneConfig> {
+    let (min, max, res) = DEFAULT_WORKSPACE;
+    let grid = GridGeometry::new(Point3::from(min), Point3::from(max), res)
+        .context("the default workspace")?;
+    let mut config = PhaseOneConfig::new(grid);
+    config.segmentation = Segmentation::default().params(SegmentationParams::default().seed);
+    config.occupancy = Mapping::default().occupancy_params();
+    config.max_range = MidRangeSensor::default().range[1];
+    Ok(config)
+}
+
+fn share(n: usize, total: usize) -> f64 {
+    if total == 0 {
+        0.0
+    } else {
+        n as f64 / total as f64
+    }
+}
+
+fn fmt_point(p: &Point3<f64>) -> String {
+    format!("({:.3}, {:.3}, {:.3})", p.x, p.y, p.z)
+}
+
+fn print_summary(
+    path: &Path,
+    cloud: &PointCloud,
+    origin_source: &str,
+    config: &PhaseOneConfig,
+    r: &PhaseOne,
+    elapsed: f64,
+) {
+    let seg = &r.segmentation;
+    let c = &seg.counts;
+    let p = &config.segmentation;
+    println!(
+        "cloud {}: {} points, origins from {origin_source}",
+        path.display(),
+        cloud.len()
+    );
+    println!(
+        "segmentation: {} in region ({} excluded boxes) -> voxel {} m: {} -> outlier \
+         removal (k {}, {} sigma): {}",
+        c.in_region,
+        config.exclude.len(),
+        p.voxel,
+        c.after_voxel,
+        p.outlier_neighbours,
+        p.outlier_std,
+        c.after_outliers
+    );
+    match &seg.table {
+        Some(t) => println!(
+            "table plane: {} inliers, normal ({:.3}, {:.3}, {:.3}), height {:.3} m, rms {:.1} mm",
+            c.table_inliers,
+            t.normal.x,
+            t.normal.y,
+            t.normal.z,
+            -t.offset / t.normal.z.max(1e-12),
+            t.rms * 1e3
+        ),
+        None => println!("table plane: none found (every point is clustered)"),
+    }
+    println!(
+        "above the table: {} points; components dropped: {} below {} points, {} above {}",
+        c.above_table,
+        c.small_components,
+        p.min_cluster_points,
+        c.large_components,
+        p.max_cluster_points
+    );
+    println!("clusters: {} ({} points)", seg.clusters.len(), c.clustered);
+    for (j, k) in seg.clusters.iter().enumerate() {
+        let size = k.max - k.min;
+        println!(
+            "  #{j}: {} points, centroid {}, bbox {} .. {} ({:.3} x {:.3} x {:.3} m)",
+            k.len(),
+            fmt_point(&k.centroid),
+            fmt_point(&k.min),
+            fmt_point(&k.max),
+            size.x,
+            size.y,
+            size.z
+        );
+    }
+    let g = r.map.grid.geometry();
+    let s = r.map.reduced.stats();
+    let n = g.len();
+    let [nx, ny, nz] = g.dims();
+    println!(
+        "grid: {nx} x {ny} x {nz} = {n} voxels of {} m from {} to {}",
+        g.resolution(),
+        fmt_point(&g.min()),
+        fmt_point(&g.max())
+    );
+    println!(
+        "  occupied {:.1}% ({}), empty {:.1}% ({}), unknown {:.1}% ({})",
+        100.0 * share(s.grid.occupied, n),
+        s.grid.occupied,
+        100.0 * share(s.grid.empty, n),
+        s.grid.empty,
+        100.0 * share(s.grid.unknown, n),
+        s.grid.unknown
+    );
+    println!(
+        "  scan: {} rays, {} longer than {} m, {} hits outside the grid",
+        r.map.scan.rays, r.map.scan.truncated, config.max_range, r.map.scan.hits_outside
+    );
+    println!(
+        "reduced map: {} voxels ({} occupied + {} unknown crust); it removes {:.1}% of the \
+         unknown voxels",
+        s.occupied + s.unknown_crust,
+        s.occupied,
+        s.unknown_crust,
+        100.0 * s.removed_unknown_share
+    );
+    println!("phase 1 took {elapsed:.2} s");
+}
+
+fn xyz(p: &Point3<f64>) -> Value {
+    json!([p.x, p.y, p.z])
+}
+
+fn stats_json(
+    path: &Path,
+    cloud: &PointCloud,
+    origin_source: &str,
+    scene: Option<&str>,
+    config: &PhaseOneConfig,
+    r: &PhaseOne,
+) -> Value {
+    let seg = &r.segmentation;
+    let c = &seg.counts;
+    let p = &config.segmentation;
+    let g = r.map.grid.geometry();
+    let s = r.map.reduced.stats();
+    let n = g.len();
+    let o = &config.occupancy;
+    json!({
+        "cloud": {
+            "path": path.display().to_string(),
+            "points": cloud.len(),
+            "origins": origin_source,
+        },
+        "scene": scene,
+        "segmentation": {
+            "params": {
+                "voxel": p.voxel,
+                "outlier_neighbours": p.outlier_neighbours,
+                "outlier_std": p.outlier_std,
+                "plane_distance": p.plane_distance,
+                "plane_iterations": p.plane_iterations,
+                "plane_max_tilt": p.plane_max_tilt,
+                "cluster_tolerance": p.cluster_tolerance,
+                "min_cluster_points": p.min_cluster_points,
+                "max_cluster_points": p.max_cluster_points,
+                "seed": p.seed,
+                "excluded_boxes": config.exclude.len(),
+            },
+            "counts": {
+                "input": c.input,
+                "in_region": c.in_region,
+                "after_voxel": c.after_voxel,
+                "after_outliers": c.after_outliers,
+                "table_inliers": c.table_inliers,
+                "above_table": c.above_table,
+                "clustered": c.clustered,
+                "small_components": c.small_components,
+                "large_components": c.large_components,
+            },
+            "table": seg.table.as_ref().map(|t| json!({
+                "normal": [t.normal.x, t.normal.y, t.normal.z],
+                "offset": t.offset,
+                "inliers": t.inliers.len(),
+                "rms": t.rms,
+            })),
+        },
+        "clusters": seg.clusters.iter().enumerate().map(|(j, k)| json!({
+            "id": j,
+            "points": k.len(),
+            "centroid": xyz(&k.centroid),
+            "min": xyz(&k.min),
+            "max": xyz(&k.max),
+        })).collect::<Vec<_>>(),
+        "grid": {
+            "dims": g.dims(),
+            "resolution": g.resolution(),
+            "min": xyz(&g.min()),
+            "max": xyz(&g.max()),
+            "voxels": n,
+            "hit_probability": o.hit_probability,
+            "clamp": [o.clamp_min, o.clamp_max],
+            "epsilon_o": o.occupied_epsilon,
+            "max_range": config.max_range,
+            "occupied": s.grid.occupied,
+            "empty": s.grid.empty,
+            "unknown": s.grid.unknown,
+            "occupied_share": share(s.grid.occupied, n),
+            "empty_share": share(s.grid.empty, n),
+            "unknown_share": share(s.grid.unknown, n),
+        },
+        "scan": {
+            "rays": r.map.scan.rays,
+            "occupied_updates": r.map.scan.occupied,
+            "free_updates": r.map.scan.free,
+            "truncated": r.map.scan.truncated,
+            "hits_outside": r.map.scan.hits_outside,
+        },
+        "reduced_map": {
+            "voxels": s.occupied + s.unknown_crust,
+            "occupied": s.occupied,
+            "unknown_crust": s.unknown_crust,
+            "removed_unknown_share": s.removed_unknown_share,
+        },
+    })
+}
