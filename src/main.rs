@@ -24,6 +24,9 @@ enum Command {
     Map(cli::map::MapArgs),
     /// PNG pictures of a scene, of point clouds, or of an occupancy map (headless).
     Render(cli::render::RenderArgs),
+    /// Register views (PLY/PCD) globally by p-ICP-GPA or sequential ICP; write the poses
+    /// and the merged model.
+    Register(cli::register::RegisterArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -37,13 +40,14 @@ fn main() -> std::process::ExitCode {
         .with_writer(std::io::stderr)
         .init();
     let result = match Cli::parse().command {
-        Command::Scene(args) => cli::scene::run(args),
-        Command::Scan(args) => cli::scan::run(args),
-        Command::Map(args) => cli::map::run(args),
-        Command::Render(args) => cli::render::run(args),
+        Command::Scene(args) => cli::scene::run(args).map(|()| std::process::ExitCode::SUCCESS),
+        Command::Scan(args) => cli::scan::run(args).map(|()| std::process::ExitCode::SUCCESS),
+        Command::Map(args) => cli::map::run(args).map(|()| std::process::ExitCode::SUCCESS),
+        Command::Render(args) => cli::render::run(args).map(|()| std::process::ExitCode::SUCCESS),
+        Command::Register(args) => cli::register::run(args),
     };
     match result {
-        Ok(()) => std::process::ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(e) => {
             // The error and its causes on one line each, without a backtrace.
             eprintln!("error: {e:#}");

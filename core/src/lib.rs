@@ -17,7 +17,7 @@ pub mod math;
 pub mod mesh;
 pub mod nbv;
 pub mod occupancy;
-pub mod planning;
 pub mod perception;
+pub mod planning;
 pub mod registration;
 pub mod rig;

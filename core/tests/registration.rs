@@ -105,8 +105,12 @@ fn gpa_is_exact_on_shared_samples() {
         ..Spec::default()
     });
     for rule in [SetRule::Cliques, SetRule::Components] {
+        // Without the pose-step criterion, which would stop once a step is below
+        // 1e-5 rad / 1 µm, short of rounding level.
         let p = RegistrationParams {
             set_rule: rule,
+            rotation_tolerance: 0.0,
+            translation_tolerance: 0.0,
             ..params(GPA, 0.01)
         };
         let reg = register(&s.views, &s.initial, &p).unwrap();
@@ -215,6 +219,65 @@ fn sequential_icp_drifts_where_gpa_does_not() {
         "{worst:?}"
     );
     assert!(gpa[last] < icp_point[last] && gpa[last] < icp_plane[last]);
+}
+
+#[test]
+fn pose_step_criterion_stops_early() {
+    // Loose step tolerances (0.05°, 0.1 mm) end the run once the updates are that small:
+    // fewer iterations than the residual criterion alone, at some cost in accuracy, since
+    // point-to-point steps slide slowly along smooth surfaces.
+    let s = generate(&Spec {
+        views: 3,
+        points_per_view: 800,
+        noise: 0.0003,
+        rotation_error_deg: 1.0,
+        translation_error: 0.005,
+        ..Spec::default()
+    });
+    let off = RegistrationParams {
+        rotation_tolerance: 0.0,
+        translation_tolerance: 0.0,
+        ..params(GPA, 0.01)
+    };
+    let loose = RegistrationParams {
+        rotation_tolerance: 0.05f64.to_radians(),
+        translation_tolerance: 1e-4,
+        ..off.clone()
+    };
+    let (a, b) = (
+        register(&s.views, &s.initial, &off).unwrap(),
+        register(&s.views, &s.initial, &loose).unwrap(),
+    );
+    let (ga, gb) = (gpa_report(&a), gpa_report(&b));
+    println!(
+        "criterion off: {} iterations, {:.3} mm; loose: {} iterations, {:.3} mm",
+        ga.iterations,
+        errors(&s, &a.poses).2,
+        gb.iterations,
+        errors(&s, &b.poses).2
+    );
+    assert!(a.converged && b.converged);
+    assert!(
+        gb.iterations < ga.iterations,
+        "{} vs {}",
+        gb.iterations,
+        ga.iterations
+    );
+    assert!(errors(&s, &b.poses).2 < 0.5 * errors(&s, &s.initial).2);
+    // The report describes the returned poses: one residual per correspondence search.
+    assert_eq!(gb.mse_history.len(), gb.iterations + 1);
+    assert_eq!(b.rms, gb.mse_history.last().map(|m| m.sqrt()));
+    let nan = RegistrationParams {
+        rotation_tolerance: f64::NAN,
+        ..off
+    };
+    assert!(matches!(
+        register(&s.views, &s.initial, &nan),
+        Err(RegistrationError::InvalidParameter {
+            name: "rotation_tolerance",
+            ..
+        })
+    ));
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! The subcommands of `nbv`, one module each.
 
-pub mod scan;
 pub mod map;
+pub mod register;
 pub mod render;
+pub mod scan;
 pub mod scene;

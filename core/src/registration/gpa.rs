@@ -14,7 +14,10 @@
 //!    view (in parallel), the rigid transform moving its set members, in the view's own
 //!    frame, onto the centroids — all views against the same centroids — then new
 //!    centroids, repeated until the residual settles (same `tolerance`) or
-//!    `max_inner_iterations` fits were made (1 gives a single fit per outer iteration).
+//!    `max_inner_iterations` fits were made (1 gives a single fit per outer iteration);
+//! 6. stop if that update turns no view relative to the reference view by more than
+//!    `rotation_tolerance` and moves no view's point centroid by more than
+//!    `translation_tolerance` (the poses of step 1 are returned), else take it.
 //!
 //! A view without three non-collinear set members keeps its pose for that fit. The
 //! residual and the report always describe the returned poses. Afterwards the gauge is
@@ -26,12 +29,12 @@ use nalgebra::{Point3, Vector3};
 use rayon::prelude::*;
 
 use super::independent_sets::{IndependentSets, find_independent_sets};
-use super::mutual_neighbours::{ViewLayout, mutual_edges};
+use super::mutual_neighbours::{MutualSearch, ViewLayout};
 use super::procrustes::CrossCovariance;
 use super::view_tree::ViewTree;
 use super::{
-    GpaReport, MethodReport, Registration, RegistrationError, RegistrationParams, StopReason,
-    settled,
+    GpaReport, MethodReport, Registration, RegistrationError, RegistrationParams, SetRule,
+    StopReason, settled,
 };
 use crate::cloud::PointCloud;
 use crate::math::Pose;
@@ -57,7 +60,7 @@ pub(crate) fn run(
     let trees: Vec<ViewTree> = views
         .par_iter()
         .enumerate()
-        .map(|(v, cloud)| ViewTree::build(v, &cloud.points))
+        .map(|(v, cloud)| ViewTree::build_with_graph(v, &cloud.points))
         .collect::<Result<_, _>>()?;
     let layout = ViewLayout::new(views.iter().map(PointCloud::len));
     let reference = params.reference;
@@ -65,11 +68,13 @@ pub(crate) fn run(
     let anchor_inv = anchor.inverse();
     // Work in the reference view's initial frame.
     let mut poses: Vec<Pose> = initial.iter().map(|p| anchor_inv * p).collect();
+    let view_centroids: Vec<Point3<f64>> = trees.iter().map(ViewTree::centroid).collect();
+    let mut search = MutualSearch::new(&trees, params.max_correspondence_distance);
     let mut history = Vec::new();
     let mut iterations = 0;
     let mut inner_iterations = 0;
     let (corr, mse, stop) = loop {
-        let corr = correspond(&trees, &poses, &layout, params);
+        let corr = correspond(&trees, &poses, &layout, &mut search, params.set_rule);
         if corr.sets.is_empty() {
             break (corr, None, StopReason::NoCorrespondences);
         }
@@ -81,10 +86,17 @@ pub(crate) fn run(
         if iterations == params.max_iterations {
             break (corr, Some(mse), StopReason::MaxIterations);
         }
-        let Some(inner) = consensus(&trees, &corr, centroids, mse, &mut poses, params) else {
+        let mut updated = poses.clone();
+        let Some(inner) = consensus(&trees, &corr, centroids, mse, &mut updated, params) else {
             break (corr, Some(mse), StopReason::Degenerate);
         };
         inner_iterations += inner;
+        // The update is negligible: the poses measured above are the result.
+        let (rotation, translation) = largest_step(&poses, &updated, reference, &view_centroids);
+        if rotation <= params.rotation_tolerance && translation <= params.translation_tolerance {
+            break (corr, Some(mse), StopReason::Converged);
+        }
+        poses = updated;
         iterations += 1;
     };
 
@@ -202,10 +214,11 @@ fn correspond(
     trees: &[ViewTree],
     poses: &[Pose],
     layout: &ViewLayout,
-    params: &RegistrationParams,
+    search: &mut MutualSearch,
+    rule: SetRule,
 ) -> Correspondences {
-    let edges = mutual_edges(trees, poses, layout, params.max_correspondence_distance);
-    let sets = find_independent_sets(layout, &edges, params.set_rule);
+    let edges = search.edges(trees, poses, layout);
+    let sets = find_independent_sets(layout, &edges, rule);
     let locals: Vec<(u32, u32)> = sets
         .members()
         .par_iter()
@@ -268,6 +281,26 @@ fn centroids(
         sum_sq / sets.points_in_sets() as f64
     };
     (centroids, mse)
+}
+
+/// Largest rotation (radians) and displacement of a view's point centroid (metres) of
+/// any view relative to the reference view between `before` and `after`.
+fn largest_step(
+    before: &[Pose],
+    after: &[Pose],
+    reference: usize,
+    centroids: &[Point3<f64>],
+) -> (f64, f64) {
+    let (ref_before, ref_after) = (before[reference].inverse(), after[reference].inverse());
+    let mut worst = (0.0f64, 0.0f64);
+    for (v, c) in centroids.iter().enumerate() {
+        let d = (ref_before * before[v]).inverse() * (ref_after * after[v]);
+        worst = (
+            worst.0.max(d.rotation.angle()),
+            worst.1.max((d * c - c).norm()),
+        );
+    }
+    worst
 }
 
 /// Views not linked to the reference view through shared independent sets.

@@ -1,5 +1,7 @@
 //! Pairwise ICP: a source view moved onto a target view. Each iteration takes every source
-//! point's nearest target point (k-d tree over the target, built once), rejects pairs
+//! point's nearest target point (k-d tree over the target, built once; answers kept
+//! between iterations by a [`NearestCache`] and searched again only where the pose change
+//! could alter them), rejects pairs
 //! farther than `d_max`, and solves for the pose either point-to-point (closed-form
 //! Procrustes by SVD) or point-to-plane (the error linearised about the current pose,
 //! a 6×6 normal-equation solve). Target normals come from the cloud, or are estimated by
@@ -13,17 +15,14 @@
 use std::num::NonZeroUsize;
 
 use nalgebra::{Matrix6, Point3, Vector3, Vector6};
-use rayon::prelude::*;
 
+use super::nearest_cache::NearestCache;
 use super::normals::normals_from_tree;
 use super::procrustes::fit_pairs;
 use super::view_tree::{ViewTree, check_pose, check_view};
 use super::{IcpParams, IcpReport, RegistrationError, StopReason, settled};
 use crate::cloud::PointCloud;
 use crate::math::Pose;
-
-/// Source points per parallel work item.
-const CHUNK: usize = 256;
 
 /// A registration target: its k-d tree and, for point-to-plane, its normals.
 pub(crate) struct IcpTarget {
@@ -38,7 +37,7 @@ impl IcpTarget {
         cloud: &PointCloud,
         params: &IcpParams,
     ) -> Result<Self, RegistrationError> {
-        let tree = ViewTree::build(view, &cloud.points)?;
+        let tree = ViewTree::build_with_graph(view, &cloud.points)?;
         let normals = if params.point_to_plane {
             Some(match &cloud.normals {
                 // Unit length; a zero normal stays zero and its pairs weigh nothing.
@@ -117,8 +116,10 @@ pub(crate) fn icp(
     let mut pose = *initial;
     let mut iterations = 0;
     let mut history = Vec::new();
+    let d_max = params.max_correspondence_distance;
+    let mut cache = NearestCache::new(source.len(), d_max);
     let (pairs, stop) = loop {
-        let pairs = correspondences(source, target, &pose, params.max_correspondence_distance);
+        let pairs = correspondences(source, target, &pose, &mut cache, d_max);
         if pairs.is_empty() {
             break (pairs, StopReason::NoCorrespondences);
         }
@@ -160,27 +161,22 @@ pub(crate) fn icp(
     (pose, report)
 }
 
-/// Nearest target point of every source point at `pose`, kept if closer than `d_max`; in
-/// source order.
+/// Nearest target point of every source point at `pose` (brought up to date in `cache`),
+/// kept if closer than `d_max`; in source order.
 fn correspondences(
     source: &[Point3<f64>],
     target: &IcpTarget,
     pose: &Pose,
+    cache: &mut NearestCache,
     d_max: f64,
 ) -> Vec<Pair> {
-    let d_max_sq = d_max * d_max;
-    let chunks: Vec<Vec<Pair>> = (0..source.len().div_ceil(CHUNK))
-        .into_par_iter()
-        .map(|c| {
-            (c * CHUNK..((c + 1) * CHUNK).min(source.len()))
-                .filter_map(|i| {
-                    let (j, d_sq) = target.tree.nearest(&(pose * source[i]));
-                    (d_sq < d_max_sq).then_some((i as u32, j as u32, d_sq))
-                })
-                .collect()
-        })
-        .collect();
-    chunks.concat()
+    cache.update(source, &target.tree, *pose);
+    cache
+        .entries()
+        .iter()
+        .enumerate()
+        .filter_map(|(i, e)| e.within(d_max).map(|(j, sq)| (i as u32, j as u32, sq)))
+        .collect()
 }
 
 /// Mean squared point-to-point distance of the pairs.

@@ -27,7 +27,10 @@
 //!   since the previous search (or the one before, which catches a two-state cycle of
 //!   correspondences) is at most `tolerance`, or after `max_iterations` searches. Between
 //!   searches, generalised Procrustes alternates fits and centroids on the fixed sets until
-//!   the same criterion holds (at most `max_inner_iterations` fits). The report gives the
+//!   the same criterion holds (at most `max_inner_iterations` fits). The run also stops
+//!   when such an update would turn no view by more than `rotation_tolerance` and move no
+//!   view's point centroid by more than `translation_tolerance` relative to the reference
+//!   view (the poses before that negligible update are returned). The report gives the
 //!   iterations, the final RMS, the number of independent sets and whether it converged;
 //!   views that do not overlap give a reported non-convergence, never made-up poses.
 //!
@@ -47,6 +50,8 @@ mod icp;
 mod independent_sets;
 mod merge;
 mod mutual_neighbours;
+mod nearest_cache;
+mod neighbour_graph;
 mod normals;
 mod params;
 mod procrustes;

@@ -3,18 +3,19 @@
 //! view j to `p`, lies within `d_max`, and `p` is the nearest point of view i to `q`, all
 //! at the current pose estimates.
 //!
-//! Points are numbered globally (view 0 first); [`ViewLayout`] maps between global ids and
-//! (view, index). The search runs in parallel over fixed chunks of points and the chunks
-//! are concatenated in order, so the edge list is the same at any thread count.
+//! [`MutualSearch`] keeps, for every ordered pair of views (i, j), the nearest point of
+//! view j to each point of view i ([`NearestCache`]: exact answers, searched again only
+//! where the poses moved enough to change them), so the mutual test is a lookup in both
+//! directions. Points are numbered globally (view 0 first); [`ViewLayout`] maps between
+//! global ids and (view, index). Updates and the edge scan run in parallel over fixed
+//! chunks of points and are collected in order, so the edge list is the same at any
+//! thread count.
 
-use nalgebra::Point3;
 use rayon::prelude::*;
 
+use super::nearest_cache::{CHUNK, NearestCache};
 use super::view_tree::ViewTree;
 use crate::math::Pose;
-
-/// Points per parallel work item.
-const CHUNK: usize = 256;
 
 /// Global numbering of the points of several views.
 #[derive(Debug, Clone)]
@@ -58,84 +59,86 @@ impl ViewLayout {
     }
 }
 
-/// All mutual-nearest-neighbour pairs `[a, b]` (global ids, view(a) < view(b)) within
-/// `d_max`, with view v at pose `poses[v]` (view frame → common frame). Ordered by `a`,
-/// then by the view of `b`.
-pub(crate) fn mutual_edges(
-    trees: &[ViewTree],
-    poses: &[Pose],
-    layout: &ViewLayout,
+/// Mutual nearest neighbours of a fixed set of views at changing poses.
+pub(crate) struct MutualSearch {
+    /// `caches[i * w + j]`: nearest point of view j to each point of view i (i ≠ j; the
+    /// diagonal is empty).
+    caches: Vec<NearestCache>,
     d_max: f64,
-) -> Vec<[u32; 2]> {
-    let w = trees.len();
-    // rel[j * w + i] maps view i's frame into view j's frame.
-    let rel: Vec<Pose> = (0..w * w)
-        .map(|k| poses[k / w].inverse() * poses[k % w])
-        .collect();
-    let work: Vec<(usize, usize)> = (0..w)
-        .flat_map(|i| {
-            let n = trees[i].points().len();
-            (0..n.div_ceil(CHUNK)).map(move |c| (i, c * CHUNK))
-        })
-        .collect();
-    let search = PairSearch {
-        trees,
-        rel: &rel,
-        d_max,
-    };
-    let chunks: Vec<Vec<[u32; 2]>> = work
-        .par_iter()
-        .map(|&(i, start)| {
-            let points = trees[i].points();
-            let end = (start + CHUNK).min(points.len());
-            let mut edges = Vec::new();
-            for (a, p) in points[start..end].iter().enumerate() {
-                let a = start + a;
-                for j in i + 1..w {
-                    if let Some(b) = search.partner(i, a, p, j) {
-                        edges.push([layout.global(i, a) as u32, layout.global(j, b) as u32]);
+}
+
+impl MutualSearch {
+    /// A search over views with the given trees, linking points within `d_max`.
+    pub(crate) fn new(trees: &[ViewTree], d_max: f64) -> Self {
+        let w = trees.len();
+        let caches = (0..w * w)
+            .map(|k| {
+                let (i, j) = (k / w, k % w);
+                let n = if i == j { 0 } else { trees[i].points().len() };
+                NearestCache::new(n, d_max)
+            })
+            .collect();
+        Self { caches, d_max }
+    }
+
+    /// All mutual-nearest-neighbour pairs `[a, b]` (global ids, view(a) < view(b)) within
+    /// `d_max`, with view v at pose `poses[v]` (view frame → common frame). Ordered by
+    /// `a`, then by the view of `b`.
+    pub(crate) fn edges(
+        &mut self,
+        trees: &[ViewTree],
+        poses: &[Pose],
+        layout: &ViewLayout,
+    ) -> Vec<[u32; 2]> {
+        let w = trees.len();
+        let inverse: Vec<Pose> = poses.iter().map(Pose::inverse).collect();
+        let work: Vec<_> = self
+            .caches
+            .iter_mut()
+            .enumerate()
+            .filter(|(k, _)| k / w != k % w)
+            .flat_map(|(k, cache)| {
+                let (i, j) = (k / w, k % w);
+                cache.begin_update(trees[i].points(), &trees[j], inverse[j] * poses[i])
+            })
+            .collect();
+        work.into_par_iter().for_each(|chunk| {
+            chunk.run();
+        });
+        let d_max = self.d_max;
+        let caches = &self.caches;
+        let scan: Vec<(usize, usize)> = (0..w)
+            .flat_map(|i| {
+                let n = trees[i].points().len();
+                (0..n.div_ceil(CHUNK)).map(move |c| (i, c * CHUNK))
+            })
+            .collect();
+        let chunks: Vec<Vec<[u32; 2]>> = scan
+            .par_iter()
+            .map(|&(i, start)| {
+                let end = (start + CHUNK).min(trees[i].points().len());
+                let mut edges = Vec::new();
+                for a in start..end {
+                    for j in i + 1..w {
+                        let Some((b, _)) = caches[i * w + j].entries()[a].within(d_max) else {
+                            continue;
+                        };
+                        if caches[j * w + i].entries()[b].index as usize == a {
+                            edges.push([layout.global(i, a) as u32, layout.global(j, b) as u32]);
+                        }
                     }
                 }
-            }
-            edges
-        })
-        .collect();
-    chunks.concat()
-}
-
-/// The trees and relative poses of one search.
-struct PairSearch<'a> {
-    trees: &'a [ViewTree],
-    /// `rel[j * w + i]` maps view i's frame into view j's frame.
-    rel: &'a [Pose],
-    d_max: f64,
-}
-
-impl PairSearch<'_> {
-    /// The point of view j that is the mutual nearest neighbour of point `a` (at `p`) of
-    /// view i within `d_max`, if any.
-    #[inline]
-    fn partner(&self, i: usize, a: usize, p: &Point3<f64>, j: usize) -> Option<usize> {
-        let w = self.trees.len();
-        let q = self.rel[j * w + i] * p;
-        // Outside view j's bounding box by more than d_max: nothing there is close enough.
-        if !self.trees[j].near_bounds(&q, self.d_max) {
-            return None;
-        }
-        let (b, d_sq) = self.trees[j].nearest(&q);
-        if d_sq >= self.d_max * self.d_max {
-            return None;
-        }
-        let back = self.rel[i * w + j] * self.trees[j].points()[b];
-        let (a_back, _) = self.trees[i].nearest(&back);
-        (a_back == a).then_some(b)
+                edges
+            })
+            .collect();
+        chunks.concat()
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::Vector3;
+    use nalgebra::{Point3, Vector3};
 
     #[test]
     fn layout_round_trips() {
@@ -162,17 +165,17 @@ mod tests {
         ];
         let layout = ViewLayout::new([3, 3]);
         let id = [Pose::identity(), Pose::identity()];
-        assert_eq!(
-            mutual_edges(&trees, &id, &layout, 0.5),
-            vec![[0, 3], [2, 5]]
-        );
+        let mut search = MutualSearch::new(&trees, 0.5);
+        assert_eq!(search.edges(&trees, &id, &layout), vec![[0, 3], [2, 5]]);
         // Moving view 1 by +1 m in x at its pose: 1.1 <-> 1, 1.2 rejected, 3.05 too far.
         let moved = [Pose::identity(), Pose::translation(1.0, 0.0, 0.0)];
-        assert_eq!(mutual_edges(&trees, &moved, &layout, 0.5), vec![[1, 3]]);
+        assert_eq!(search.edges(&trees, &moved, &layout), vec![[1, 3]]);
         let far = [
             Pose::identity(),
             Pose::new(Vector3::new(9.0, 0.0, 0.0), Vector3::zeros()),
         ];
-        assert!(mutual_edges(&trees, &far, &layout, 0.5).is_empty());
+        assert!(search.edges(&trees, &far, &layout).is_empty());
+        // Back at the start, with the cache warm: the same answer as a fresh search.
+        assert_eq!(search.edges(&trees, &id, &layout), vec![[0, 3], [2, 5]]);
     }
 }

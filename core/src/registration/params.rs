@@ -68,6 +68,12 @@ pub struct RegistrationParams {
     /// Convergence: stop when the relative change of the mean squared residual between
     /// two successive iterations is at most this.
     pub tolerance: f64,
+    /// p-ICP-GPA: also stop when an outer iteration would turn no view, relative to the
+    /// reference view, by more than this (radians)…
+    pub rotation_tolerance: f64,
+    /// …and move no view's point centroid, relative to the reference view, by more than
+    /// this (metres). Both 0 turn this criterion off.
+    pub translation_tolerance: f64,
     /// Independent-set rule of p-ICP-GPA.
     pub set_rule: SetRule,
     /// Neighbours used to estimate normals by PCA for point-to-plane ICP when a target
@@ -84,6 +90,8 @@ impl Default for RegistrationParams {
             max_iterations: 100,
             max_inner_iterations: 50,
             tolerance: 1e-6,
+            rotation_tolerance: 1e-5,
+            translation_tolerance: 1e-6,
             set_rule: SetRule::Cliques,
             normal_neighbours: 10,
         }
@@ -99,6 +107,18 @@ impl RegistrationParams {
                 value: 0.0,
                 reason: "must be at least 1",
             });
+        }
+        for (name, value) in [
+            ("rotation_tolerance", self.rotation_tolerance),
+            ("translation_tolerance", self.translation_tolerance),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(RegistrationError::InvalidParameter {
+                    name,
+                    value,
+                    reason: "must be finite and >= 0",
+                });
+            }
         }
         self.icp_params(false).validate()
     }

@@ -10,12 +10,16 @@ use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::Point3;
 
 use super::RegistrationError;
+use super::neighbour_graph::NeighbourGraph;
 use crate::cloud::PointCloud;
 use crate::math::Pose;
 
 /// Coordinates beyond this magnitude (metres) are rejected: no sensor measures them, and
 /// the k-d tree reserves `f64::MAX`.
 const MAX_COORDINATE: f64 = 1e9;
+
+/// Two, for two-nearest searches.
+const TWO: NonZeroUsize = NonZeroUsize::new(2).unwrap();
 
 /// A view's points (own frame) and a k-d tree over them.
 pub(crate) struct ViewTree {
@@ -24,6 +28,8 @@ pub(crate) struct ViewTree {
     /// Axis-aligned bounds of the points.
     lo: Point3<f64>,
     hi: Point3<f64>,
+    /// Each point's nearest neighbours in the view, when built (for repeated searches).
+    graph: Option<NeighbourGraph>,
 }
 
 impl ViewTree {
@@ -46,7 +52,24 @@ impl ViewTree {
             tree,
             lo,
             hi,
+            graph: None,
         })
+    }
+
+    /// [`build`](Self::build), plus the [`NeighbourGraph`] that lets a [`NearestCache`]
+    /// (super::nearest_cache::NearestCache) repair answers without searching the tree.
+    pub(crate) fn build_with_graph(
+        view: usize,
+        points: &[Point3<f64>],
+    ) -> Result<Self, RegistrationError> {
+        let mut tree = Self::build(view, points)?;
+        tree.graph = Some(NeighbourGraph::build(&tree.points, &tree.tree));
+        Ok(tree)
+    }
+
+    /// The neighbour graph, if built.
+    pub(crate) fn graph(&self) -> Option<&NeighbourGraph> {
+        self.graph.as_ref()
     }
 
     /// The view's points in its own frame.
@@ -54,20 +77,48 @@ impl ViewTree {
         &self.points
     }
 
-    /// Whether `q` (view frame) lies within `margin` of the points' bounding box: if not,
-    /// no point is within `margin` of it.
-    pub(crate) fn near_bounds(&self, q: &Point3<f64>, margin: f64) -> bool {
-        (0..3).all(|k| q[k] >= self.lo[k] - margin && q[k] <= self.hi[k] + margin)
+    /// Centroid of the points (view frame).
+    pub(crate) fn centroid(&self) -> Point3<f64> {
+        let sum = self
+            .points
+            .iter()
+            .fold(nalgebra::Vector3::zeros(), |s, p| s + p.coords);
+        Point3::from(sum / self.points.len().max(1) as f64)
     }
 
-    /// Index of the nearest point to `q` (view frame) and its squared distance.
-    pub(crate) fn nearest(&self, q: &Point3<f64>) -> (usize, f64) {
-        let nn = self
+    /// Largest coordinate magnitude of the points (view frame), for rounding margins.
+    pub(crate) fn scale(&self) -> f64 {
+        self.lo.coords.amax().max(self.hi.coords.amax())
+    }
+
+    /// Distance from `q` (view frame) to the points' bounding box (0 inside): no point is
+    /// closer than this.
+    pub(crate) fn distance_to_bounds(&self, q: &Point3<f64>) -> f64 {
+        let outside = (self.lo - q)
+            .sup(&(q - self.hi))
+            .sup(&nalgebra::Vector3::zeros());
+        outside.norm()
+    }
+
+    /// The nearest point to `q` (view frame) within `radius`, if any, and the distance of
+    /// the second nearest within `radius`, if any.
+    pub(crate) fn nearest_two_within(
+        &self,
+        q: &Point3<f64>,
+        radius: f64,
+    ) -> (Option<usize>, Option<f64>) {
+        let mut found = self
             .tree
             .query(&[q.x, q.y, q.z])
-            .nearest_one::<SquaredEuclidean<f64>>()
+            .nearest_n::<SquaredEuclidean<f64>>(TWO)
+            .within(radius * radius)
             .execute();
-        (nn.item as usize, nn.distance)
+        found.sort_by(|a, b| a.distance.total_cmp(&b.distance).then(a.item.cmp(&b.item)));
+        let mut found = found.into_iter();
+        (
+            found.next().map(|r| r.item as usize),
+            found.next().map(|r| r.distance.sqrt()),
+        )
     }
 
     /// Indices of the `k` nearest points to `q` (fewer if the view is smaller), nearest

@@ -1,0 +1,452 @@
+//! `nbv register VIEW…`: global registration of user-supplied views (PLY or PCD) by
+//! p-ICP-GPA or the sequential ICP baseline; writes one 4×4 transform per view (JSON) and
+//! the merged model cloud, both only once everything has succeeded.
+
+use anyhow::{Context, Result, anyhow, bail};
+use clap::{Args, ValueEnum};
+use nalgebra::{Isometry3, Matrix3, Matrix4, Rotation3, Translation3, UnitQuaternion};
+use nbv_core::cloud::PointCloud;
+use nbv_core::cloud::io::{
+    CloudFormat, CloudIoError, WriteOptions, read_cloud_with, write_atomically, write_pcd,
+    write_ply,
+};
+use nbv_core::math::Pose;
+use nbv_core::registration::{Method, MethodReport, RegistrationParams, register};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+/// Exit status when the registration ran but did not converge (outputs are written).
+pub const NOT_CONVERGED: u8 = 3;
+
+/// Largest deviation of a pose matrix from a rigid transform that is accepted (and then
+/// re-orthonormalised): 1e-6 on any entry.
+const RIGID_TOLERANCE: f64 = 1e-6;
+
+/// Arguments of `nbv register`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+POSE FILES (--init, --poses)
+  A JSON object mapping each view's file name (without directory) to its pose, the
+  4x4 homogeneous view-to-world transform as an array of 4 rows, row-major:
+    { \"scan_a.ply\": [[r00, r01, r02, tx], [r10, r11, r12, ty],
+                      [r20, r21, r22, tz], [0, 0, 0, 1]], ... }
+  A world point is  p_world = R * p_view + t. --init must hold every view (extra names
+  are ignored); without it every view starts at the identity (views already roughly
+  aligned in one frame). The reference view keeps its initial pose.
+
+MODEL (-o)
+  All views moved into the world frame, concatenated in the order given, each point
+  tagged with its view index (PLY property `view`, PCD field `view`); binary, 32-bit
+  floats. The format follows the extension (.ply or .pcd).
+
+INPUT
+  PLY (ascii, binary little or big endian) or PCD (ascii, binary, binary_compressed);
+  extra properties are ignored. Points with NaN or infinite coordinates are dropped
+  (reported on stderr). Two views may not share a file name.
+
+EXIT STATUS
+  0  registered and converged; outputs written.
+  1  error (unreadable or degenerate input: fewer than two views, an empty view, bad
+     pose file, bad option); nothing is written.
+  2  command-line usage error.
+  3  the registration ran but did not converge (no overlap, iteration cap, a view not
+     tied to the reference); outputs are written and the reason is printed.")]
+pub struct RegisterArgs {
+    /// Views to register (PLY or PCD), each in its own frame.
+    #[arg(required = true, value_name = "VIEW")]
+    views: Vec<PathBuf>,
+    /// Initial poses (see POSE FILES); identity for every view if absent.
+    #[arg(long, value_name = "POSES.json")]
+    init: Option<PathBuf>,
+    /// Algorithm.
+    #[arg(long, value_enum, default_value_t = MethodArg::Gpa)]
+    method: MethodArg,
+    /// Index (0-based, in the order given) of the reference view, whose pose is kept.
+    #[arg(long, value_name = "K", default_value_t = 0)]
+    reference: usize,
+    /// Maximum correspondence distance d_max (metres).
+    #[arg(long, value_name = "METRES", default_value_t = 0.01)]
+    max_distance: f64,
+    /// Cap on iterations (sequential ICP: per pair).
+    #[arg(long, value_name = "N", default_value_t = 300)]
+    max_iterations: usize,
+    /// Worker threads (default: all cores). Results do not depend on it.
+    #[arg(long, value_name = "N")]
+    threads: Option<usize>,
+    /// Output model cloud (.ply or .pcd).
+    #[arg(short, long, value_name = "MODEL.ply")]
+    output: PathBuf,
+    /// Output poses (see POSE FILES).
+    #[arg(long, value_name = "POSES.json")]
+    poses: PathBuf,
+    /// Also write the full registration report (JSON).
+    #[arg(long, value_name = "REPORT.json")]
+    report: Option<PathBuf>,
+}
+
+/// `--method` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum MethodArg {
+    /// p-ICP-GPA: all views at once (paper, Figure 4).
+    Gpa,
+    /// Sequential point-to-point ICP: view h onto view h−1, chained.
+    Icp,
+    /// Sequential point-to-plane ICP.
+    IcpPlane,
+}
+
+impl MethodArg {
+    fn method(self) -> Method {
+        match self {
+            Self::Gpa => Method::Gpa,
+            Self::Icp => Method::SequentialIcp {
+                point_to_plane: false,
+            },
+            Self::IcpPlane => Method::SequentialIcp {
+                point_to_plane: true,
+            },
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Self::Gpa => "p-ICP-GPA",
+            Self::Icp => "sequential ICP (point-to-point)",
+            Self::IcpPlane => "sequential ICP (point-to-plane)",
+        }
+    }
+}
+
+/// Runs `nbv register …`.
+pub fn run(args: RegisterArgs) -> Result<ExitCode> {
+    let names = file_names(&args.views)?;
+    if args.views.len() < 2 {
+        bail!(
+            "registration needs at least 2 views, got {} ({})",
+            args.views.len(),
+            args.views[0].display()
+        );
+    }
+    if args.reference >= args.views.len() {
+        bail!(
+            "--reference {} is out of range for {} views",
+            args.reference,
+            args.views.len()
+        );
+    }
+    for out in [&args.output, &args.poses]
+        .into_iter()
+        .chain(args.report.as_ref())
+    {
+        if args.views.iter().any(|v| same_file(v, out)) {
+            bail!("output {} is also an input view", out.display());
+        }
+    }
+    CloudFormat::from_path(&args.output)
+        .with_context(|| format!("output model {}", args.output.display()))?;
+
+    let views = args
+        .views
+        .iter()
+        .map(|path| read_view(path))
+        .collect::<Result<Vec<_>>>()?;
+    let initial = match &args.init {
+        Some(path) => read_poses(path, &names)?,
+        None => vec![Pose::identity(); views.len()],
+    };
+    let params = RegistrationParams {
+        method: args.method.method(),
+        reference: args.reference,
+        max_correspondence_distance: args.max_distance,
+        max_iterations: args.max_iterations,
+        ..RegistrationParams::default()
+    };
+    params.validate().context("bad option")?;
+
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .context("cannot start the worker threads")?;
+    let start = Instant::now();
+    let registration = pool
+        .install(|| register(&views, &initial, &params))
+        .map_err(|e| anyhow!(name_view(&e.to_string(), &args.views)))?;
+    let elapsed = start.elapsed();
+    let model = registration.merged(&views)?;
+
+    // Everything is computed: stage every output, then move them all into place.
+    let mut staged = Staged::default();
+    let result = (|| -> Result<()> {
+        let format = CloudFormat::from_path(&args.output)?;
+        staged.write(&args.output, |w| match format {
+            CloudFormat::Ply => write_ply(w, &model, &WriteOptions::default()),
+            CloudFormat::Pcd => write_pcd(w, &model, &WriteOptions::default()),
+        })?;
+        let poses = poses_json(&names, &registration.poses);
+        staged.write(&args.poses, |w| {
+            w.write_all(&poses).map_err(CloudIoError::from)
+        })?;
+        if let Some(path) = &args.report {
+            let mut report = serde_json::to_vec_pretty(&registration)?;
+            report.push(b'\n');
+            staged.write(path, |w| w.write_all(&report).map_err(CloudIoError::from))?;
+        }
+        staged.commit()
+    })();
+    if let Err(e) = result {
+        staged.discard();
+        return Err(e);
+    }
+
+    let points: usize = views.iter().map(PointCloud::len).sum();
+    let rms = registration
+        .rms
+        .map_or("-".to_string(), |r| format!("{:.3} mm", r * 1e3));
+    let detail = match &registration.report {
+        MethodReport::Gpa(g) => format!(
+            "{} iterations, {} independent sets, stop: {:?}{}",
+            g.iterations,
+            g.independent_sets,
+            g.stop,
+            if g.unconnected_views.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    ", views not tied to the reference: {}",
+                    list_views(&g.unconnected_views, &args.views)
+                )
+            }
+        ),
+        MethodReport::SequentialIcp(s) => s
+            .pairs
+            .iter()
+            .map(|p| {
+                format!(
+                    "{} onto {}: {} iterations, {:?}",
+                    names[p.source], names[p.target], p.icp.iterations, p.icp.stop
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("; "),
+    };
+    println!(
+        "registered {} views ({points} points) by {} in {:.1} ms: {}, rms {rms}; {detail}",
+        views.len(),
+        args.method.name(),
+        elapsed.as_secs_f64() * 1e3,
+        if registration.converged {
+            "converged"
+        } else {
+            "NOT converged"
+        },
+    );
+    println!(
+        "wrote {} and {}",
+        args.output.display(),
+        args.poses.display()
+    );
+    if registration.converged {
+        Ok(ExitCode::SUCCESS)
+    } else {
+        eprintln!("warning: the registration did not converge; the poses may be wrong");
+        Ok(ExitCode::from(NOT_CONVERGED))
+    }
+}
+
+/// The file name of every view (the keys of the pose files); names must be distinct.
+fn file_names(views: &[PathBuf]) -> Result<Vec<String>> {
+    let mut seen = BTreeMap::new();
+    views
+        .iter()
+        .map(|path| {
+            let name = path
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .ok_or_else(|| anyhow!("{}: not a file name", path.display()))?;
+            if let Some(other) = seen.insert(name.clone(), path) {
+                bail!(
+                    "{} and {} have the same file name, which keys the pose files",
+                    other.display(),
+                    path.display()
+                );
+            }
+            Ok(name)
+        })
+        .collect()
+}
+
+/// Whether two paths name the same file (by canonical path when both exist).
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
+}
+
+/// Reads one view; non-finite points are dropped and reported.
+fn read_view(path: &Path) -> Result<PointCloud> {
+    let file = read_cloud_with(path, &Default::default())
+        .with_context(|| format!("cannot read view {}", path.display()))?;
+    if file.dropped_non_finite > 0 {
+        eprintln!(
+            "warning: {}: dropped {} points with NaN or infinite values",
+            path.display(),
+            file.dropped_non_finite
+        );
+    }
+    if file.cloud.is_empty() {
+        bail!("view {} has no (finite) point", path.display());
+    }
+    Ok(file.cloud)
+}
+
+/// Reads `--init`: a pose for every name in `names`.
+fn read_poses(path: &Path, names: &[String]) -> Result<Vec<Pose>> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read initial poses {}", path.display()))?;
+    let map: BTreeMap<String, serde_json::Value> =
+        serde_json::from_str(&text).with_context(|| {
+            format!(
+                "{}: expected a JSON object of file name -> 4x4 matrix",
+                path.display()
+            )
+        })?;
+    names
+        .iter()
+        .map(|name| {
+            let value = map
+                .get(name)
+                .ok_or_else(|| anyhow!("{}: no pose for view {name}", path.display()))?;
+            parse_matrix(value).with_context(|| format!("{}: pose of {name}", path.display()))
+        })
+        .collect()
+}
+
+/// A rigid transform from a 4×4 row-major JSON matrix.
+fn parse_matrix(value: &serde_json::Value) -> Result<Pose> {
+    let rows: Vec<Vec<f64>> = serde_json::from_value(value.clone())
+        .map_err(|_| anyhow!("expected 4 rows of 4 numbers"))?;
+    if rows.len() != 4 || rows.iter().any(|r| r.len() != 4) {
+        bail!("expected 4 rows of 4 numbers");
+    }
+    let m = Matrix4::from_fn(|r, c| rows[r][c]);
+    if !m.iter().all(|v| v.is_finite()) {
+        bail!("the matrix has a non-finite entry");
+    }
+    let bottom = [m[(3, 0)], m[(3, 1)], m[(3, 2)], m[(3, 3)]];
+    if bottom
+        .iter()
+        .zip([0.0, 0.0, 0.0, 1.0])
+        .any(|(v, want)| (v - want).abs() > RIGID_TOLERANCE)
+    {
+        bail!("the last row must be 0 0 0 1, got {bottom:?}");
+    }
+    let r: Matrix3<f64> = m.fixed_view::<3, 3>(0, 0).into_owned();
+    if (r.transpose() * r - Matrix3::identity()).amax() > RIGID_TOLERANCE
+        || (r.determinant() - 1.0).abs() > RIGID_TOLERANCE
+    {
+        bail!("the upper-left 3x3 block is not a rotation");
+    }
+    let rotation = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix(&r));
+    let t = Translation3::new(m[(0, 3)], m[(1, 3)], m[(2, 3)]);
+    Ok(Isometry3::from_parts(t, rotation))
+}
+
+/// `{ name: [[row 0], …, [row 3]], … }` in view order, pretty-printed.
+fn poses_json(names: &[String], poses: &[Pose]) -> Vec<u8> {
+    let mut map = serde_json::Map::new();
+    for (name, pose) in names.iter().zip(poses) {
+        let m = pose.to_homogeneous();
+        let rows: Vec<Vec<f64>> = (0..4)
+            .map(|r| (0..4).map(|c| m[(r, c)]).collect())
+            .collect();
+        map.insert(name.clone(), serde_json::json!(rows));
+    }
+    let mut bytes = serde_json::to_vec_pretty(&serde_json::Value::Object(map)).unwrap_or_default();
+    bytes.push(b'\n');
+    bytes
+}
+
+/// Adds the file after the first "view K" of a library message.
+fn name_view(message: &str, views: &[PathBuf]) -> String {
+    let Some(at) = message.find("view ") else {
+        return message.to_string();
+    };
+    let digits_start = at + "view ".len();
+    let digits = message[digits_start..]
+        .bytes()
+        .take_while(u8::is_ascii_digit)
+        .count();
+    let end = digits_start + digits;
+    match message[digits_start..end]
+        .parse::<usize>()
+        .ok()
+        .and_then(|k| views.get(k))
+    {
+        Some(path) => format!(
+            "{} ({}){}",
+            &message[..end],
+            path.display(),
+            &message[end..]
+        ),
+        None => message.to_string(),
+    }
+}
+
+/// "k (file), …" for view indices.
+fn list_views(indices: &[usize], views: &[PathBuf]) -> String {
+    indices
+        .iter()
+        .map(|&k| format!("{k} ({})", views[k].display()))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Outputs written under temporary names beside their final paths, renamed into place
+/// together once all are written, or removed.
+#[derive(Default)]
+struct Staged {
+    /// (temporary path, final path).
+    files: Vec<(PathBuf, PathBuf)>,
+}
+
+impl Staged {
+    /// Writes `path`'s content under a temporary name in the same directory.
+    fn write(
+        &mut self,
+        path: &Path,
+        write: impl FnOnce(&mut dyn std::io::Write) -> Result<(), CloudIoError>,
+    ) -> Result<()> {
+        let name = path
+            .file_name()
+            .ok_or_else(|| anyhow!("{}: not a file name", path.display()))?;
+        let temp = path.with_file_name(format!(
+            ".{}.{}.staged",
+            name.to_string_lossy(),
+            std::process::id()
+        ));
+        write_atomically(&temp, write)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        self.files.push((temp, path.to_path_buf()));
+        Ok(())
+    }
+
+    /// Moves every staged file into place.
+    fn commit(&mut self) -> Result<()> {
+        while let Some((temp, path)) = self.files.first().cloned() {
+            std::fs::rename(&temp, &path)
+                .with_context(|| format!("cannot write {}", path.display()))?;
+            self.files.remove(0);
+        }
+        Ok(())
+    }
+
+    /// Removes the staged files not yet moved.
+    fn discard(&mut self) {
+        for (temp, _) in self.files.drain(..) {
+            let _ = std::fs::remove_file(temp);
+        }
+    }
+}
