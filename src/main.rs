@@ -19,6 +19,9 @@ enum Command {
     Scene(cli::scene::SceneArgs),
     /// The method end to end on a scene in the twin: report, models, map and pictures.
     Explore(cli::explore::ExploreArgs),
+    /// Acquire on the twin: the phase-1 LMS400 sweep (`mid`) or one Dinast frame (`short`);
+    /// writes PLY/PCD clouds with sensor origins and ground truth, and PNG depth images.
+    Scan(cli::scan::ScanArgs),
     /// Phase 1 on a mid-range cloud: object clusters, occupancy grid and reduced map.
     Map(cli::map::MapArgs),
     /// PNG pictures of a scene, of point clouds, or of an occupancy map (headless).
@@ -41,6 +44,7 @@ fn main() -> std::process::ExitCode {
     let result = match Cli::parse().command {
         Command::Scene(args) => cli::scene::run(args).map(|()| std::process::ExitCode::SUCCESS),
         Command::Explore(args) => cli::explore::run(args).map(|()| std::process::ExitCode::SUCCESS),
+        Command::Scan(args) => cli::scan::run(args).map(|()| std::process::ExitCode::SUCCESS),
         Command::Map(args) => cli::map::run(args).map(|()| std::process::ExitCode::SUCCESS),
         Command::Render(args) => cli::render::run(args).map(|()| std::process::ExitCode::SUCCESS),
         Command::Register(args) => cli::register::run(args),

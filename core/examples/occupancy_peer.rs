@@ -1,5 +1,6 @@
 //! nbv's side of the OctoMap comparison (`benches/peers/octomap_insert.sh`): the
-//! paper-scale synthetic sweep (275 lines × 200 rays, ~55K returns) inserted into a
+//! paper-scale synthetic sweep (275 lines × 200 rays, ~55K returns, 2 mm range noise,
+//! origins off the voxel lattice) inserted into a
 //! 60×70×30 grid of 2 cm voxels whose lower corner lies on OctoMap's lattice (every
 //! coordinate a multiple of the resolution, so voxel boundaries coincide), timed, and
 //! written for the peer script:
@@ -62,7 +63,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let runs = runs.max(1);
     std::fs::create_dir_all(&out)?;
-    let (origins, points) = synthetic_sweep::sweep();
+    let (origins, points) = synthetic_sweep::noisy_sweep(2014);
     let groups = lines(&origins);
     let geometry = GridGeometry::from_dims(Point3::from(GRID_MIN), RESOLUTION, DIMS)?;
     let params = OccupancyParams::default();
@@ -88,22 +89,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Ok(grid)
     };
     let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
-    let time = |f: &dyn Fn() -> Result<OccupancyGrid, nbv_core::occupancy::OccupancyError>,
-                pool: Option<&rayon::ThreadPool>|
-     -> Result<(f64, OccupancyGrid), Box<dyn std::error::Error>> {
-        let mut times = Vec::with_capacity(runs);
-        let mut last = None;
-        for _ in 0..runs {
-            let t = Instant::now();
-            let g = match pool {
-                Some(p) => p.install(f)?,
-                None => f()?,
-            };
-            times.push(t.elapsed().as_secs_f64());
-            last = Some(g);
-        }
-        Ok((median(times), last.ok_or("no run")?))
-    };
+    let time =
+        |f: &(dyn Fn() -> Result<OccupancyGrid, nbv_core::occupancy::OccupancyError> + Sync),
+         pool: Option<&rayon::ThreadPool>|
+         -> Result<(f64, OccupancyGrid), Box<dyn std::error::Error>> {
+            let mut times = Vec::with_capacity(runs);
+            let mut last = None;
+            for _ in 0..runs {
+                let t = Instant::now();
+                let g = match pool {
+                    Some(p) => p.install(f)?,
+                    None => f()?,
+                };
+                times.push(t.elapsed().as_secs_f64());
+                last = Some(g);
+            }
+            Ok((median(times), last.ok_or("no run")?))
+        };
     let (t_one, grid_one) = time(&one_scan, None)?;
     let (t_one_1, _) = time(&one_scan, Some(&one_thread))?;
     let (t_line, grid_line) = time(&per_line, None)?;

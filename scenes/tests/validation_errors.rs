@@ -144,7 +144,7 @@ fn structural_errors() {
     assert_eq!(invalid(&ws).0, "workspace.max");
     let eps = env1().replace("epsilon_o = 0.4", "epsilon_o = 0.9");
     assert_eq!(invalid(&eps).0, "mapping.epsilon_o");
-    let sweep = env1().replace(", [0.0, -30.0, -90.0, 0.0, 75.0, 0.0]]", "]");
+    let sweep = env1().replace(", [0.0, -40.0, -90.0, 0.0, 84.0, 0.0]]", "]");
     assert_eq!(invalid(&sweep).0, "sweep.waypoints_deg");
     let urdf = env1().replace("comau_smart_six.urdf", "missing.urdf");
     assert!(matches!(invalid(&urdf), (k, Problem::MissingFile(_)) if k == "robot.urdf"));

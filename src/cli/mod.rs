@@ -7,4 +7,5 @@ pub mod map;
 pub mod progress;
 pub mod register;
 pub mod render;
+pub mod scan;
 pub mod scene;

@@ -7,8 +7,8 @@ use clap::{Args, Subcommand};
 use nbv_core::cloud::io::read_cloud;
 use nbv_core::occupancy::{OccupancyGrid, ReducedMap};
 use nbv_sim::render::{
-    Camera, Color, PointSet, RenderScene, Renderer, fitted_front_and_back, front_and_back,
-    map_items, save_png, scene_items,
+    Camera, Color, PointSet, RenderScene, Renderer, UnknownVoxels, fitted_front_and_back,
+    front_and_back, map_items, save_png, scene_items,
 };
 use std::path::{Path, PathBuf};
 
@@ -81,9 +81,32 @@ enum RenderCommand {
         /// Back view PNG.
         #[arg(long)]
         back: Option<PathBuf>,
+        /// Unknown voxels drawn: `occluded` (the crust under observed free space: the
+        /// shadows of objects and obstacles), `crust` (all of M̄'s unknown voxels, which
+        /// also wall in the space the sensor never looked at), or `none`.
+        #[arg(long, value_enum, default_value_t = Unknown::Occluded)]
+        unknown: Unknown,
         #[command(flatten)]
         size: Size,
     },
+}
+
+/// `--unknown` of `nbv render map`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Unknown {
+    Occluded,
+    Crust,
+    None,
+}
+
+impl From<Unknown> for UnknownVoxels {
+    fn from(u: Unknown) -> Self {
+        match u {
+            Unknown::Occluded => UnknownVoxels::Occluded,
+            Unknown::Crust => UnknownVoxels::Crust,
+            Unknown::None => UnknownVoxels::None,
+        }
+    }
 }
 
 /// Runs `nbv render …`.
@@ -137,6 +160,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
             mapdir,
             output,
             back,
+            unknown,
             size,
         } => {
             let path = mapdir.join("grid.nbvgrid");
@@ -155,7 +179,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
             let cameras = front_and_back(g.min(), g.max(), size.aspect());
             draw_pair(
                 &renderer,
-                &map_items(&reduced),
+                &map_items(&grid, &reduced, unknown.into()),
                 cameras,
                 size,
                 &output,
@@ -219,7 +243,7 @@ pub fn map_pictures_or_warn(grid: &OccupancyGrid, reduced: &ReducedMap, front: &
     };
     if let Err(e) = draw_pair(
         &renderer,
-        &map_items(reduced),
+        &map_items(grid, reduced, UnknownVoxels::Occluded),
         front_and_back(g.min(), g.max(), size.aspect()),
         size,
         front,

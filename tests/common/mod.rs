@@ -47,10 +47,10 @@ fn cast(o: &Point3<f64>, d: &Vector3<f64>) -> Option<f64> {
         }
     }
     for (lo, hi) in BOXES {
-        if let Some(t) = hit_box(o, d, lo, hi) {
-            if best.is_none_or(|b| t < b) {
-                best = Some(t);
-            }
+        if let Some(t) = hit_box(o, d, lo, hi)
+            && best.is_none_or(|b| t < b)
+        {
+            best = Some(t);
         }
     }
     best

@@ -1,9 +1,13 @@
 //! The paper-scale synthetic mid-range sweep shared by the occupancy benchmark and the
 //! OctoMap comparison (`examples/occupancy_peer.rs`): a table plane at z = 0.25 m with
 //! boxes on it, swept by a line scanner (275 lines × 200 rays, 70° fan) moving along y
-//! about 1 m above. Analytic ray casting, no noise: every run gives the same rays.
+//! about 1 m above. Analytic ray casting: every run gives the same rays.
+
+#![allow(dead_code)]
 
 use nalgebra::{Point3, Vector3};
+use rand::SeedableRng;
+use rand_distr::{Distribution, Normal};
 
 /// Axis-aligned boxes standing on the table: (min, max).
 pub const BOXES: [([f64; 3], [f64; 3]); 5] = [
@@ -48,13 +52,33 @@ fn cast(o: &Point3<f64>, d: &Vector3<f64>) -> Option<f64> {
 }
 
 /// The sweep: (origins, points) of every return within the LMS400's 0.7–3.0 m, line
-/// after line (all returns of a line share its origin).
+/// after line (all returns of a line share its origin). No noise; the scanner's origins
+/// and several box faces lie exactly on 2 cm voxel boundaries.
 pub fn sweep() -> (Vec<Point3<f64>>, Vec<Point3<f64>>) {
+    sweep_from(Vector3::zeros())
+}
+
+/// The same sweep from origins moved off the 2 cm lattice by a fraction of a millimetre,
+/// with the LMS400's Gaussian range noise (σ = 2 mm, seeded): no return and no scan plane
+/// lies exactly on a voxel boundary, as with a real sensor, so that two mappers that
+/// round boundary coordinates differently (OctoMap works in f32) still agree.
+pub fn noisy_sweep(seed: u64) -> (Vec<Point3<f64>>, Vec<Point3<f64>>) {
+    let (origins, mut points) = sweep_from(Vector3::new(0.00131, 0.00073, 0.00117));
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let noise = Normal::new(0.0, 0.002).unwrap();
+    for (o, p) in origins.iter().zip(points.iter_mut()) {
+        let d = (*p - o).normalize();
+        *p += d * noise.sample(&mut rng);
+    }
+    (origins, points)
+}
+
+fn sweep_from(offset: Vector3<f64>) -> (Vec<Point3<f64>>, Vec<Point3<f64>>) {
     let fov = 70f64.to_radians();
     let mut origins = Vec::new();
     let mut points = Vec::new();
     for l in 0..LINES {
-        let o = Point3::new(0.10, -0.55 + 1.1 * l as f64 / (LINES - 1) as f64, 1.20);
+        let o = Point3::new(0.10, -0.55 + 1.1 * l as f64 / (LINES - 1) as f64, 1.20) + offset;
         for r in 0..RAYS {
             // Angle from the vertical, in the x–z plane: 0° (straight down) to 70° (forward).
             let a = fov * r as f64 / (RAYS - 1) as f64;

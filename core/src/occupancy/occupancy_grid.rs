@@ -3,6 +3,7 @@
 
 use nalgebra::Point3;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicU8, Ordering};
 
 use super::OccupancyError;
 use super::grid_geometry::{GridGeometry, VoxelIndex};
@@ -56,8 +57,10 @@ pub struct ScanUpdate {
 /// - a ray longer than `max_range` clears free space up to `max_range` only and hits
 ///   nothing; a ray of zero length hits its voxel and passes none.
 ///
-/// Rays are traced in parallel (rayon, chunks of rays marking into per-task arrays merged
-/// by element-wise maximum), so the result is the same for any thread count.
+/// Rays are traced in parallel (rayon, chunks of rays) into one shared array of marks, in
+/// two passes — every crossed voxel is marked free, then every hit voxel is marked hit —
+/// each storing a single constant value, so the result is the same for any thread count
+/// or order.
 ///
 /// ```
 /// use nbv_core::occupancy::{GridGeometry, OccupancyGrid, OccupancyParams, VoxelState};
@@ -286,29 +289,39 @@ impl OccupancyGrid {
                 });
             }
         }
-        let n = self.geometry.len();
+        // Two passes over shared marks: first every crossed voxel is marked free, then
+        // every hit voxel is marked hit. Each pass only ever stores one constant value, so
+        // the order in which rays or threads store does not matter, and hits overwrite
+        // passes as OctoMap's update does: the result is the per-voxel maximum of the
+        // old per-task arrays, without an array per task or their merge.
         let geometry = &self.geometry;
-        let (marks, truncated, hits_outside) = origins
+        let marks: Vec<AtomicU8> = std::iter::repeat_with(|| AtomicU8::new(0))
+            .take(geometry.len())
+            .collect();
+        let (truncated, hits_outside) = origins
             .par_chunks(RAYS_PER_TASK)
             .zip(points.par_chunks(RAYS_PER_TASK))
-            .fold(
-                || (vec![0u8; n], 0usize, 0usize),
-                |(mut marks, mut truncated, mut outside), (os, ps)| {
-                    for (o, p) in os.iter().zip(ps) {
-                        let (t, o2) = trace_ray(geometry, o, p, max_range, &mut marks);
-                        truncated += t;
-                        outside += o2;
-                    }
-                    (marks, truncated, outside)
-                },
-            )
-            .reduce_with(|(mut a, ta, oa), (b, tb, ob)| {
-                for (x, y) in a.iter_mut().zip(&b) {
-                    *x = (*x).max(*y);
+            .map(|(os, ps)| {
+                let (mut truncated, mut outside) = (0usize, 0usize);
+                for (o, p) in os.iter().zip(ps) {
+                    let (t, o2) = trace_ray(geometry, o, p, max_range, &marks);
+                    truncated += t;
+                    outside += o2;
                 }
-                (a, ta + tb, oa + ob)
+                (truncated, outside)
             })
-            .unwrap_or_else(|| (vec![0u8; n], 0, 0));
+            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+        origins
+            .par_chunks(RAYS_PER_TASK)
+            .zip(points.par_chunks(RAYS_PER_TASK))
+            .for_each(|(os, ps)| {
+                for (o, p) in os.iter().zip(ps) {
+                    if let Some(h) = hit_voxel(geometry, o, p, max_range) {
+                        marks[h].store(MARK_HIT, Ordering::Relaxed);
+                    }
+                }
+            });
+        let marks: Vec<u8> = marks.into_iter().map(AtomicU8::into_inner).collect();
         Ok((
             marks,
             ScanUpdate {
@@ -321,41 +334,38 @@ impl OccupancyGrid {
     }
 }
 
-/// Marks one ray; returns (truncated, hit outside the grid) as 0/1 counters.
+/// The voxel a ray's end point hits: `None` when the ray is longer than `max_range` or
+/// ends outside the grid.
+fn hit_voxel(g: &GridGeometry, o: &Point3<f64>, p: &Point3<f64>, max_range: f64) -> Option<usize> {
+    if (p - o).norm() > max_range {
+        return None;
+    }
+    g.voxel_of(p).and_then(|v| g.linear(v))
+}
+
+/// Marks the voxels a ray crosses as free (its hit voxel too: the hit pass overwrites
+/// it); returns (truncated, hit outside the grid) as 0/1 counters.
 fn trace_ray(
     g: &GridGeometry,
     o: &Point3<f64>,
     p: &Point3<f64>,
     max_range: f64,
-    marks: &mut [u8],
+    marks: &[AtomicU8],
 ) -> (usize, usize) {
     let r = p - o;
     let dist = r.norm();
     let truncated = dist > max_range;
-    let hit = if truncated {
-        None
-    } else {
-        g.voxel_of(p).and_then(|v| g.linear(v))
-    };
     if dist > 0.0 {
         let reach = dist.min(max_range);
         // The direction is non-zero and finite: the traversal cannot fail.
         if let Ok(traversal) = VoxelTraversal::new(g, o, &r, reach) {
             for c in traversal {
-                if Some(c.linear) != hit {
-                    let m = &mut marks[c.linear];
-                    *m = (*m).max(MARK_FREE);
-                }
+                marks[c.linear].store(MARK_FREE, Ordering::Relaxed);
             }
         }
     }
-    if let Some(h) = hit {
-        marks[h] = MARK_HIT;
-    }
-    (
-        usize::from(truncated),
-        usize::from(!truncated && hit.is_none()),
-    )
+    let outside = !truncated && g.voxel_of(p).is_none();
+    (usize::from(truncated), usize::from(outside))
 }
 
 #[cfg(test)]
@@ -564,10 +574,21 @@ mod tests {
         };
         let one = run(1);
         assert_eq!(one, run(4));
-        // Sequential reference: same marks ray by ray.
+        // Sequential reference, ray by ray: the maximum of pass (1) and hit (2) marks.
         let mut marks = vec![0u8; g.len()];
         for (o, q) in origins.iter().zip(&points) {
-            trace_ray(&g, o, q, 3.0, &mut marks);
+            let within = (q - o).norm() <= 3.0;
+            let end = if within {
+                *q
+            } else {
+                o + (q - o).normalize() * 3.0
+            };
+            for c in g.traverse_segment(o, &end).unwrap() {
+                marks[c.linear] = marks[c.linear].max(MARK_FREE);
+            }
+            if let Some(v) = g.voxel_of(q).filter(|_| within) {
+                marks[g.linear(v).unwrap()] = MARK_HIT;
+            }
         }
         let u = one.params().hit_log_odds();
         for (l, &m) in marks.iter().enumerate() {

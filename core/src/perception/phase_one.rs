@@ -115,7 +115,7 @@ pub fn build_map(
 /// let mut pts: Vec<_> = (0..400)
 ///     .map(|i| Point3::new(0.025 + (i % 20) as f64 * 0.05, 0.025 + (i / 20) as f64 * 0.05, 0.1))
 ///     .collect();
-/// pts.extend((1..=10).map(|k| Point3::new(0.51, 0.51, 0.1 + k as f64 * 0.02)));
+/// pts.extend((1..=10).map(|k| Point3::new(0.51, 0.51, 0.105 + k as f64 * 0.015)));
 /// let mut cloud = PointCloud::from_points(pts);
 /// assert!(phase_one(&cloud, &config).is_err()); // no origins
 /// cloud.origins = Some(vec![Point3::new(0.5, 0.5, 1.2); cloud.len()]);

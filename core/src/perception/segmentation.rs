@@ -101,8 +101,8 @@ fn step(name: &'static str) -> impl Fn(ProcessingError) -> PerceptionError {
 /// }
 /// for i in 0..10 {
 ///     for j in 0..10 {
-///         for k in 1..=10 {
-///             pts.push(Point3::new(0.9 + i as f64 * 0.01, j as f64 * 0.01, 0.25 + k as f64 * 0.01));
+///         for k in 0..10 {
+///             pts.push(Point3::new(0.9 + i as f64 * 0.01, j as f64 * 0.01, 0.255 + k as f64 * 0.01));
 ///         }
 ///     }
 /// }
@@ -110,7 +110,8 @@ fn step(name: &'static str) -> impl Fn(ProcessingError) -> PerceptionError {
 /// let seg = segment_objects(&PointCloud::from_points(pts), &params, None, &[]).unwrap();
 /// assert_eq!(seg.clusters.len(), 1);
 /// assert_eq!(seg.clusters[0].len(), 900); // the bottom layer is within 1 cm of the table
-/// assert!((seg.table.unwrap().offset + 0.25).abs() < 1e-9);
+/// assert_eq!(seg.counts.table_inliers, 2500 + 100);
+/// assert!((seg.table.unwrap().offset + 0.25).abs() < 1e-3);
 /// ```
 pub fn segment_objects(
     cloud: &PointCloud,

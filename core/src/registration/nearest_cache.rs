@@ -12,14 +12,14 @@
 //! - if `d₁ + δ < d₂ − δ`, `b` is still the unique nearest point;
 //! - if `d₂ − δ > r` (the search radius), no point but `b` can lie within `r`: if `b`
 //!   does, it is the nearest point, and otherwise no point is within `r`;
-//! - an entry without a point within its search radius keeps a lower bound `d₁` on every
-//!   distance, and stays empty while `d₁ − δ > r`.
+//! - if `d₁ − δ > r`, with `d₁` the nearest distance (or, for an entry that found no
+//!   point within `2r`, a lower bound on every distance), no point lies within `r`.
 //!
 //! Otherwise the answer is repaired by a walk on the target's [`NeighbourGraph`]
-//! (super::neighbour_graph::NeighbourGraph) from the previous nearest point when the
-//! target has one and the walk can prove its result, else searched again: the two nearest
-//! points within `2r`, or first the distance to the target's bounding box when that alone
-//! rules every point out. All tests
+//! (super::neighbour_graph::NeighbourGraph) from the previous nearest point (or the
+//! previous query point's) when the target has one and the walk can prove its result, else
+//! searched again: first the distance to the target's bounding box, which may rule every
+//! point out, then the two nearest points within `2r` in the tree. All tests
 //! keep a margin for rounding, so the cache answers exactly as fresh searches do: the
 //! nearest point whenever one lies within `r` (and its squared distance at `q`), no point
 //! otherwise. Entries are independent, so updating them in parallel chunks gives the same
@@ -40,10 +40,14 @@ pub(crate) const CHUNK: usize = 256;
 /// Relative margin for rounding in the distance tests (of the coordinates' magnitude).
 const ROUNDING: f64 = 1e-12;
 
+/// Relative rounding of the distance bounds stored as f32 (2⁻²³, with room to spare).
+const F32_ROUNDING: f64 = 1e-6;
+
 /// One query point's nearest target point.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Nearest {
-    /// Squared distance to the nearest point at the current position (∞ with [`NONE`]).
+    /// Squared distance to the nearest point at the current position (∞ with [`NONE`], or
+    /// when it is known to lie beyond the radius).
     pub(crate) sq: f64,
     /// Index of the nearest target point, or [`NONE`] if no point lies within the radius.
     pub(crate) index: u32,
@@ -224,6 +228,10 @@ impl UpdateChunk<'_> {
                     if d1 - delta > radius + margin {
                         continue;
                     }
+                } else if d1 * (1.0 - F32_ROUNDING) - delta > radius + margin {
+                    // Even the nearest point is beyond the radius.
+                    entry.sq = f64::INFINITY;
+                    continue;
                 } else if d1 + delta < d2 - delta || d2 - delta > radius + margin {
                     entry.sq = (q - target.points()[entry.index as usize]).norm_squared();
                     hint = Some(entry.index as usize);

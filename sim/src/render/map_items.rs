@@ -3,43 +3,86 @@
 
 use super::{Color, LineSet, RenderScene, VoxelSet};
 use nalgebra::Point3;
-use nbv_core::occupancy::ReducedMap;
+use nbv_core::occupancy::{OccupancyGrid, ReducedMap, VoxelState};
 
 /// Colour of the edges of the grid's box in map pictures.
 const GRID_BOX_COLOR: Color = Color::rgb(0.25, 0.25, 0.25);
 
-/// The voxels of M̄: its occupied voxels in [`Color::OCCUPIED`] and its unknown crust in
-/// [`Color::UNKNOWN`], each cube slightly smaller than a voxel so that neighbours stay
-/// distinct, and the grid's box as thin lines. (The unknown voxels M̄ leaves out are
-/// hidden behind the crust anyway: drawing the crust keeps the picture legible.)
+/// Which unknown voxels of M̄ a map picture shows (occupied voxels are always shown).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum UnknownVoxels {
+    /// The unknown crust voxels that lie under observed free space: some voxel above
+    /// them in their column is empty. These are the shadows the sensor could not see
+    /// into (behind objects and obstacles); the crust of the space the sensor never
+    /// looked at (above and around its field of view), which would wall the picture in,
+    /// is left out.
+    #[default]
+    Occluded,
+    /// Every unknown voxel of M̄ (the whole crust).
+    Crust,
+    /// None: occupied voxels only.
+    None,
+}
+
+/// The voxels of M̄ as cubes: occupied voxels in [`Color::OCCUPIED`], the unknown voxels
+/// chosen by `unknown` in [`Color::UNKNOWN`], each cube slightly smaller than a voxel so
+/// that neighbours stay distinct, and the grid's box as thin lines. `reduced` must come
+/// from `grid`.
 ///
 /// ```
 /// use nbv_core::occupancy::{GridGeometry, OccupancyGrid, OccupancyParams, ReducedMap};
+/// use nbv_sim::render::{UnknownVoxels, map_items};
 /// use nalgebra::Point3;
-/// let g = GridGeometry::from_dims(Point3::origin(), 1.0, [5, 1, 1]).unwrap();
+/// // One column, bottom to top: occupied, unknown, empty, unknown, unknown.
+/// let g = GridGeometry::from_dims(Point3::origin(), 1.0, [1, 1, 5]).unwrap();
 /// let grid = OccupancyGrid::from_log_odds(
-///     g, OccupancyParams::default(), vec![-1.0, -1.0, 0.0, 0.0, 1.0]).unwrap();
-/// let items = nbv_sim::render::map_items(&ReducedMap::from_grid(&grid));
-/// assert_eq!(items.voxels[0].centers, vec![Point3::new(4.5, 0.5, 0.5)]); // occupied
-/// assert_eq!(items.voxels[1].centers, vec![Point3::new(2.5, 0.5, 0.5)]); // unknown crust
+///     g, OccupancyParams::default(), vec![1.0, 0.0, -1.0, 0.0, 0.0]).unwrap();
+/// let m = ReducedMap::from_grid(&grid);
+/// let items = map_items(&grid, &m, UnknownVoxels::Occluded);
+/// assert_eq!(items.voxels[0].centers, vec![Point3::new(0.5, 0.5, 0.5)]); // occupied
+/// assert_eq!(items.voxels[1].centers, vec![Point3::new(0.5, 0.5, 1.5)]); // under free space
+/// assert_eq!(map_items(&grid, &m, UnknownVoxels::Crust).voxels[1].centers.len(), 2);
 /// ```
-pub fn map_items(reduced: &ReducedMap) -> RenderScene {
-    let g = reduced.geometry();
-    let centers = |list: &[usize]| -> Vec<Point3<f64>> {
-        list.iter()
-            .filter_map(|&l| g.unlinear(l))
+pub fn map_items(
+    grid: &OccupancyGrid,
+    reduced: &ReducedMap,
+    unknown: UnknownVoxels,
+) -> RenderScene {
+    let g = grid.geometry();
+    let [nx, ny, nz] = g.dims();
+    let centers = |list: &mut dyn Iterator<Item = usize>| -> Vec<Point3<f64>> {
+        list.filter_map(|l| g.unlinear(l))
             .map(|v| g.center(v))
             .collect()
+    };
+    // Per column, one above the highest empty voxel (0 when the column has none).
+    let mut top_empty = vec![0usize; nx * ny];
+    for z in 0..nz {
+        for (c, top) in top_empty.iter_mut().enumerate() {
+            if grid.state_linear(c + nx * ny * z) == Some(VoxelState::Empty) {
+                *top = z + 1;
+            }
+        }
+    }
+    let shown: Vec<usize> = match unknown {
+        UnknownVoxels::Crust => reduced.unknown().to_vec(),
+        UnknownVoxels::None => Vec::new(),
+        UnknownVoxels::Occluded => reduced
+            .unknown()
+            .iter()
+            .copied()
+            .filter(|&l| l / (nx * ny) + 1 < top_empty[l % (nx * ny)])
+            .collect(),
     };
     let size = g.resolution() * 0.96;
     let mut items = RenderScene::new();
     items.add_voxels(VoxelSet::uniform(
-        centers(reduced.occupied()),
+        centers(&mut reduced.occupied().iter().copied()),
         size,
         Color::OCCUPIED,
     ));
     items.add_voxels(VoxelSet::uniform(
-        centers(reduced.unknown()),
+        centers(&mut shown.into_iter()),
         size,
         Color::UNKNOWN,
     ));
