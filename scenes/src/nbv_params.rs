@@ -1,6 +1,6 @@
 //! `[nbv]` as nbv-core's types: Algorithm 2's [`NbvParams`] and the [`StopRule`].
 
-use crate::schema::Nbv;
+use crate::schema::{GainMeasureName, Nbv};
 use nbv_core::nbv::{GainMeasure, NbvParams, ScoreWeights, StopRule, ViewSphere};
 
 impl Nbv {
@@ -23,15 +23,25 @@ impl Nbv {
                 occupied: self.alpha_o,
             },
             ray_stride: self.ray_subsample.max(1) as usize,
+            roll_candidates: self.rolls.max(1) as usize,
             ..NbvParams::default()
         }
     }
 
-    /// The stop rule: eq. (5) against `gain_threshold`.
+    /// The stop rule: the latest view's gain (by `gain_measure`) against `gain_threshold`.
+    ///
+    /// ```
+    /// use nbv_core::nbv::GainMeasure;
+    /// let rule = nbv_scenes::schema::Nbv::default().stop_rule();
+    /// assert_eq!((rule.gain_threshold, rule.measure), (5.0, GainMeasure::BernoulliKl));
+    /// ```
     pub fn stop_rule(&self) -> StopRule {
         StopRule {
             gain_threshold: self.gain_threshold,
-            measure: GainMeasure::Eq5,
+            measure: match self.gain_measure {
+                GainMeasureName::Eq5 => GainMeasure::Eq5,
+                GainMeasureName::Kl => GainMeasure::BernoulliKl,
+            },
         }
     }
 }

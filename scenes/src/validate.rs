@@ -463,6 +463,7 @@ fn parameters(s: &Scene, c: &Check) -> Result<(), SceneError> {
     }
     c.within("nbv.gain_threshold", v.gain_threshold, 0.0, f64::MAX, "≥ 0")?;
     c.at_least("nbv.ray_subsample", v.ray_subsample.into(), 1)?;
+    c.at_least("nbv.rolls", v.rolls.into(), 1)?;
     c.within(
         "nbv.visited_min_distance",
         v.visited_min_distance,

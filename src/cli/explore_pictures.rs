@@ -10,6 +10,7 @@ use nbv_core::occupancy::ReducedMap;
 use nbv_core::pipeline::Exploration;
 use nbv_scenes::Scene;
 use nbv_sim::render::{
+    UnknownVoxels,
     Camera, CloudColoring, Color, LineSet, PointSet, RenderScene, Renderer, fitted_front_and_back,
     front_and_back, map_items, save_png, scene_items,
 };
@@ -49,7 +50,7 @@ fn draw_all(
     let reduced = ReducedMap::from_grid(grid);
     let g = grid.geometry();
     let (front, back) = front_and_back(g.min(), g.max(), aspect);
-    let map = map_items(&reduced);
+    let map = map_items(grid, &reduced, UnknownVoxels::Occluded);
     draw(renderer, &map, &front, &out.join("map_front.png"))?;
     draw(renderer, &map, &back, &out.join("map_back.png"))?;
 

@@ -2,7 +2,7 @@
 //! measured against the twin's ground truth.
 
 use anyhow::Result;
-use nbv_core::evaluation::{point_error, surface_coverage};
+use nbv_core::evaluation::{alignment_error, point_error, surface_coverage};
 use nbv_core::math::Pose;
 use nbv_core::pipeline::{Exploration, ExploreConfig, ObjectExploration, ObjectStop, StepTimes};
 use nbv_core::rig::TruthLabel;
@@ -13,7 +13,7 @@ use serde::Serialize;
 pub const COVERAGE_TOLERANCE: f64 = 0.01;
 /// Surface samples per object for the coverage.
 const COVERAGE_SAMPLES: usize = 20_000;
-/// Mean point error (m) above which a registration counts as failed.
+/// Mean alignment error (m) above which a registration counts as failed.
 pub const FAILED_REGISTRATION_ERROR: f64 = 0.01;
 
 /// Times per step (seconds), as the paper's Table I.
@@ -47,13 +47,19 @@ impl From<&StepTimes> for Times {
 /// The error of registered points against their true positions.
 #[derive(Debug, Clone, Serialize)]
 pub struct RegistrationScore {
-    /// Mean point error (m).
+    /// Mean point error (m): registered points against the true points they sampled,
+    /// sensor noise included.
     pub mean: f64,
-    /// Standard deviation (m).
+    /// Standard deviation of the point error (m).
     pub std: f64,
+    /// Mean alignment error (m): how far each view's rigid misalignment displaces its true
+    /// points, free of sensor noise (`nbv_core::evaluation::alignment_error`).
+    pub alignment: f64,
+    /// Standard deviation of the alignment error (m).
+    pub alignment_std: f64,
     /// Whether the method reported convergence.
     pub converged: bool,
-    /// Not converged, or a mean error above the failure threshold.
+    /// Not converged, or a mean alignment error above the failure threshold.
     pub failed: bool,
 }
 
@@ -198,15 +204,16 @@ impl ExploreReport {
         for o in &self.objects {
             let mm = |e: &Option<RegistrationScore>| {
                 e.as_ref()
-                    .map_or("-".to_string(), |e| format!("{:.2} mm", e.mean * 1e3))
+                    .map_or("-".to_string(), |e| format!("{:.1} mm", e.alignment * 1e3))
             };
             s += &format!(
-                "  {:<12} views {:>2}  failed {:>2}  coverage {:>5}  error gpa {:>9}  icp {:>9}  ({})\n",
+                "  {:<12} views {:>2}  failed {:>2}  coverage {:>5}  alignment as acquired {:>7}  gpa {:>7}  icp {:>7}  ({})\n",
                 o.name,
                 o.views.len(),
                 o.viewpoints_failed.len(),
                 o.coverage
                     .map_or("-".into(), |c| format!("{:.1}%", c * 100.0)),
+                mm(&o.error_unregistered),
                 mm(&o.error_gpa),
                 mm(&o.error_icp),
                 o.stop
@@ -249,11 +256,14 @@ pub fn evaluate(
         };
         let score = |poses: &[Pose], converged: bool, views: &[nbv_core::cloud::PointCloud]| {
             let e = point_error(views, poses);
+            let a = alignment_error(views, poses);
             (e.points > 0).then(|| RegistrationScore {
                 mean: e.mean,
                 std: e.std,
+                alignment: a.mean,
+                alignment_std: a.std,
                 converged,
-                failed: !converged || e.mean > FAILED_REGISTRATION_ERROR,
+                failed: !converged || a.mean > FAILED_REGISTRATION_ERROR,
             })
         };
         let (error_unregistered, error_gpa, error_icp) = match &object.registration {

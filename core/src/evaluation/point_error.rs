@@ -15,6 +15,23 @@ pub struct PointError {
     pub points: usize,
 }
 
+impl PointError {
+    /// Mean and (population) standard deviation of `distances`; all zero when empty.
+    pub fn from_distances(distances: &[f64]) -> Self {
+        let n = distances.len();
+        if n == 0 {
+            return Self::default();
+        }
+        let mean = distances.iter().sum::<f64>() / n as f64;
+        let var = distances.iter().map(|d| (d - mean).powi(2)).sum::<f64>() / n as f64;
+        Self {
+            mean,
+            std: var.sqrt(),
+            points: n,
+        }
+    }
+}
+
 /// The error of every point of every view moved by its pose against its `truth` point;
 /// views without a truth column are skipped. `poses` pairs with `views`.
 ///
@@ -38,15 +55,5 @@ pub fn point_error(views: &[PointCloud], poses: &[Pose]) -> PointError {
                 .map(|(p, t)| (pose * p - t).norm()),
         );
     }
-    let n = distances.len();
-    if n == 0 {
-        return PointError::default();
-    }
-    let mean = distances.iter().sum::<f64>() / n as f64;
-    let var = distances.iter().map(|d| (d - mean).powi(2)).sum::<f64>() / n as f64;
-    PointError {
-        mean,
-        std: var.sqrt(),
-        points: n,
-    }
+    PointError::from_distances(&distances)
 }

@@ -47,7 +47,7 @@ pub use view_pose::{view_pose, view_pose_rolled, view_position, view_rotation};
 pub use view_score::ScoreWeights;
 pub use view_sphere::{SphereSample, ViewSphere};
 pub use viewpoint_list::{
-    Candidate, NbvParams, NextBestView, Viewpoint, ViewpointList, ViewpointSet, VisibilityForm,
+    Candidate, GoalFilter, NbvParams, NextBestView, Viewpoint, ViewpointList, ViewpointSet, VisibilityForm,
     sort_best_first,
 };
 pub use visibility::{

@@ -195,6 +195,19 @@ impl NextBestView {
         centroid: &Point3<f64>,
         visited: &VisitedViews,
     ) -> Result<ViewpointSet, NbvError> {
+        self.viewpoints_where(robot, centroid, visited, &|_| true)
+    }
+
+    /// [`viewpoints`](Self::viewpoints) keeping only the IK solutions `usable` accepts
+    /// (e.g. those free of self-collision and of known obstacles); a roll none of whose
+    /// solutions is usable counts as unreachable and the next roll is tried.
+    pub fn viewpoints_where(
+        &self,
+        robot: &Robot,
+        centroid: &Point3<f64>,
+        visited: &VisitedViews,
+        usable: &GoalFilter<'_>,
+    ) -> Result<ViewpointSet, NbvError> {
         if !centroid.iter().all(|v| v.is_finite()) {
             return Err(NbvError::InvalidInput("object centroid is not finite"));
         }
@@ -202,7 +215,7 @@ impl NextBestView {
         let samples = self.params.sphere.samples()?;
         let outcomes = samples
             .par_iter()
-            .map(|s| self.viewpoint(robot, centroid, visited, s))
+            .map(|s| self.viewpoint(robot, centroid, visited, s, usable))
             .collect::<Result<Vec<_>, NbvError>>()?;
         let mut set = ViewpointSet {
             centroid: *centroid,
@@ -227,6 +240,7 @@ impl NextBestView {
         centroid: &Point3<f64>,
         visited: &VisitedViews,
         sample: &SphereSample,
+        usable: &GoalFilter<'_>,
     ) -> Result<SampleOutcome, NbvError> {
         let base = view_pose(
             centroid,
@@ -243,7 +257,11 @@ impl NextBestView {
             let roll = TAU * k as f64 / n as f64;
             let pose = view_pose_rolled(&base, roll);
             match robot.ik(&self.frame, &pose) {
-                Ok(solutions) => {
+                Ok(mut solutions) => {
+                    solutions.retain(|s| usable(s));
+                    if solutions.is_empty() {
+                        continue;
+                    }
                     return Ok(SampleOutcome::Kept(Viewpoint {
                         sample: *sample,
                         roll,
@@ -281,7 +299,20 @@ impl NextBestView {
         centroid: &Point3<f64>,
         visited: &VisitedViews,
     ) -> Result<ViewpointList, NbvError> {
-        let set = self.viewpoints(robot, centroid, visited)?;
+        self.candidates_around_where(robot, map, centroid, visited, &|_| true)
+    }
+
+    /// [`candidates_around`](Self::candidates_around) with the IK solutions filtered as in
+    /// [`viewpoints_where`](Self::viewpoints_where).
+    pub fn candidates_around_where(
+        &self,
+        robot: &Robot,
+        map: &ReducedMap,
+        centroid: &Point3<f64>,
+        visited: &VisitedViews,
+        usable: &GoalFilter<'_>,
+    ) -> Result<ViewpointList, NbvError> {
+        let set = self.viewpoints_where(robot, centroid, visited, usable)?;
         let mut candidates = set
             .viewpoints
             .into_par_iter()
@@ -313,6 +344,9 @@ impl NextBestView {
         self.candidates_around(robot, map, &centroid, visited)
     }
 }
+
+/// Which IK solutions of a viewpoint may be planning goals.
+pub type GoalFilter<'a> = dyn Fn(&IkSolution) -> bool + Sync + 'a;
 
 enum SampleOutcome {
     Kept(Viewpoint),

@@ -208,7 +208,13 @@ where
         let centroid = object_points(object)
             .centroid()
             .ok_or_else(|| PipelineError::Config(format!("object {j} has no point")))?;
-        let mut list = nbv.candidates_around(robot, &reduced, &centroid, &visited)?;
+        // Goals must be free of self-collision, the known obstacles and the map (MoveIt's
+        // collision-aware IK): a viewpoint none of whose IK solutions is free is
+        // unreachable, and the next roll about the optical axis is tried.
+        let world = CollisionWorld::new(robot, &config.obstacles)?.with_reduced_map(&reduced);
+        let mut planner = MotionPlanner::new(world, config.planner)?;
+        let usable = |s: &crate::kinematics::IkSolution| !planner.world().in_collision(&s.joints);
+        let mut list = nbv.candidates_around_where(robot, &reduced, &centroid, &visited, &usable)?;
         object.times.nbv += t.elapsed().as_secs_f64();
         object.candidates_evaluated += list.candidates.len();
         observer.event(&ExploreEvent::Candidates {
@@ -222,10 +228,6 @@ where
             object.stop = ObjectStop::Rule(reason);
             return Ok(collisions);
         }
-        let t = Instant::now();
-        let world = CollisionWorld::new(robot, &config.obstacles)?.with_reduced_map(&reduced);
-        let mut planner = MotionPlanner::new(world, config.planner)?;
-        object.times.planning += t.elapsed().as_secs_f64();
         let mut taken = false;
         while let Some(candidate) = list.pop_first() {
             attempt += 1;

@@ -21,9 +21,18 @@ pub struct Nbv {
     pub alpha_u: f64,
     /// Weight `α_o` of occupied voxels. Default 1 (paper).
     pub alpha_o: f64,
-    /// Stop an object when the gain of eq. (5) (nats) is below this. Default 5.0
-    /// (assumed; the paper does not give its value).
+    /// Stop an object when the latest view's gain (nats, by `gain_measure`) is below
+    /// this. Default 5.0 (assumed; the paper does not give its value).
     pub gain_threshold: f64,
+    /// What `gain_threshold` is compared with: `"kl"` (default), the Bernoulli
+    /// Kullback–Leibler divergence over the observed voxels, never negative; or `"eq5"`,
+    /// eq. (5) as printed, negative for most views of surface (it stops an object after
+    /// its first short-range view).
+    pub gain_measure: GainMeasureName,
+    /// Rolls about the optical axis tried per viewpoint, `k·360°/rolls` added to eq. (3)'s
+    /// orientation, the first with a collision-free IK solution kept. Default 4 (the paper
+    /// uses eq. (3)'s roll only: `rolls = 1`).
+    pub rolls: u32,
     /// Keep every n-th camera pixel along rows and columns for the predicted ray set `D`.
     /// Default 8 (40 × 30 = 1200 rays).
     pub ray_subsample: u32,
@@ -44,9 +53,21 @@ impl Default for Nbv {
             alpha_u: 4.0,
             alpha_o: 1.0,
             gain_threshold: 5.0,
+            gain_measure: GainMeasureName::Kl,
+            rolls: 4,
             ray_subsample: 8,
             visited_min_distance: 0.08,
             max_views_per_object: 10,
         }
     }
+}
+
+/// `[nbv] gain_measure`: which information-gain number the stop rule compares.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum GainMeasureName {
+    /// Eq. (5) as printed.
+    Eq5,
+    /// The Bernoulli Kullback–Leibler divergence.
+    Kl,
 }
