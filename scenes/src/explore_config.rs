@@ -11,7 +11,43 @@ use nbv_core::pipeline::{ExploreConfig, ExploreMode};
 use nbv_core::planning::{Obstacle, ObstacleShape, PlannerConfig};
 use nbv_core::registration::RegistrationParams;
 
+/// Height (m) of the camera above the table top during the short-only survey: the Dinast
+/// (0.1–0.8 m) sees the table and objects up to 0.35 m tall from there.
+pub const SURVEY_HEIGHT: f64 = 0.45;
+/// Largest spacing (m) between survey poses: the camera's footprint at [`SURVEY_HEIGHT`] is
+/// about 0.75 × 0.54 m, so neighbouring frames overlap.
+pub const SURVEY_SPACING: f64 = 0.35;
+
 impl Scene {
+    /// The short-only survey: the camera looking straight down from [`SURVEY_HEIGHT`] above
+    /// the table top, over a grid of cells at most [`SURVEY_SPACING`] wide covering the part
+    /// of the table inside the workspace, row by row (x, then y, boustrophedon).
+    ///
+    /// ```
+    /// let scene = nbv_scenes::builtin::load("paper-env1").unwrap();
+    /// let survey = scene.survey_poses();
+    /// assert_eq!(survey.len(), 12); // 3 x 4 cells over the 1.0 x 1.4 m table
+    /// assert!(survey.iter().all(|p| (p.translation.z - 0.70).abs() < 1e-9));
+    /// ```
+    pub fn survey_poses(&self) -> Vec<nbv_core::math::Pose> {
+        let (w, t) = (&self.workspace, &self.table);
+        let lo = [t.min[0].max(w.min[0]), t.min[1].max(w.min[1])];
+        let hi = [t.max[0].min(w.max[0]), t.max[1].min(w.max[1])];
+        let cells = |k: usize| ((hi[k] - lo[k]) / SURVEY_SPACING).ceil().max(1.0) as usize;
+        let (nx, ny) = (cells(0), cells(1));
+        let mut poses = Vec::with_capacity(nx * ny);
+        for i in 0..nx {
+            for jj in 0..ny {
+                let j = if i % 2 == 0 { jj } else { ny - 1 - jj };
+                let x = lo[0] + (hi[0] - lo[0]) * (i as f64 + 0.5) / nx as f64;
+                let y = lo[1] + (hi[1] - lo[1]) * (j as f64 + 0.5) / ny as f64;
+                let below = nalgebra::Point3::new(x, y, t.top());
+                poses.push(nbv_core::nbv::view_pose(&below, SURVEY_HEIGHT, 0.0, 0.0));
+            }
+        }
+        poses
+    }
+
     /// The pipeline's configuration for this scene in `mode`.
     ///
     /// ```
@@ -23,7 +59,16 @@ impl Scene {
     /// assert_eq!(c.seed, scene.seed);
     /// ```
     pub fn explore_config(&self, mode: ExploreMode) -> Result<ExploreConfig, SceneError> {
-        let phase_one = self.phase_one_config()?;
+        let mut phase_one = self.phase_one_config()?;
+        if mode == ExploreMode::ShortOnly {
+            // The survey's cloud is the camera's: the table plane and the clusters are
+            // found at its noise (2σ at the survey height), on a 1 cm voxel filter.
+            let n = &self.sensors.short_range.noise;
+            let sigma = n.range_sigma_at_1m * SURVEY_HEIGHT.powf(n.range_sigma_exponent);
+            let seg = &mut phase_one.segmentation;
+            seg.plane_distance = seg.plane_distance.max(2.0 * sigma);
+            seg.voxel = seg.voxel.max(0.01);
+        }
         let mut obstacles = Vec::new();
         let t = &self.table;
         let centre = [
@@ -81,6 +126,7 @@ impl Scene {
             .collect();
         Ok(ExploreConfig {
             mode,
+            survey: self.survey_poses(),
             sweep,
             sweep_speed: self.sweep.joint_speed_fraction,
             phase_one,

@@ -55,6 +55,8 @@ pub enum Mode {
     Hybrid,
     /// The laser sweep only.
     MidOnly,
+    /// The depth camera only: a survey of the table from above, then next-best views.
+    ShortOnly,
 }
 
 impl From<Mode> for ExploreMode {
@@ -62,6 +64,7 @@ impl From<Mode> for ExploreMode {
         match m {
             Mode::Hybrid => ExploreMode::Hybrid,
             Mode::MidOnly => ExploreMode::MidOnly,
+            Mode::ShortOnly => ExploreMode::ShortOnly,
         }
     }
 }

@@ -8,7 +8,7 @@ use super::{
 use crate::cloud::PointCloud;
 use crate::kinematics::Robot;
 use crate::math::Pose;
-use crate::nbv::{InformationGain, NextBestView, VisitedViews};
+use crate::nbv::{InformationGain, NextBestView, VisitedViews, view_pose_rolled};
 use crate::occupancy::{OccupancyGrid, ReducedMap};
 use crate::perception::phase_one;
 use crate::planning::{CollisionWorld, MotionPlanner, PlanningError};
@@ -50,11 +50,11 @@ where
             "the robot base must be at the world origin for planning".into(),
         ));
     }
-    let phase = run_phase_one(robot, base, arm, scanner, config, observer)?;
+    let phase = run_phase_one(robot, base, arm, scanner, camera, config, observer)?;
     let (phase_report, segmentation) = phase;
     let mut grid = phase_report.grid.clone();
     let mut objects = Vec::new();
-    let mut collisions = 0;
+    let mut collisions = phase_report.collisions;
     let nbv = NextBestView::new(config.nbv, camera.spec())?;
     for (j, cluster) in segmentation.clusters.iter().enumerate() {
         // The table's height under the object (no floor without a table plane).
@@ -81,7 +81,7 @@ where
             registration_error: None,
             times: StepTimes::default(),
         };
-        if config.mode == ExploreMode::Hybrid {
+        if config.mode != ExploreMode::MidOnly {
             let hits = explore_object(
                 robot,
                 base,
@@ -124,31 +124,49 @@ where
     })
 }
 
-/// Phase 1: sweep, cloud, segmentation, grid.
-fn run_phase_one<A, L>(
+/// Phase 1: sweep (or, short-only, the camera survey), cloud, segmentation, grid.
+fn run_phase_one<A, L, C>(
     robot: &Robot,
     base: &Pose,
     arm: &mut A,
     scanner: &mut L,
+    camera: &mut C,
     config: &ExploreConfig,
     observer: &mut dyn ExploreObserver,
 ) -> Result<(PhaseOneReport, crate::perception::ObjectSegmentation), PipelineError>
 where
     A: Arm + ?Sized,
     L: LineScanner + ?Sized,
+    C: DepthCamera + ?Sized,
 {
     let mut times = StepTimes::default();
-    observer.event(&ExploreEvent::SweepStarted {
-        waypoints: config.sweep.len(),
-    });
-    let t = Instant::now();
-    let sweep = acquire_sweep(arm, scanner, &config.sweep, config.sweep_speed)?;
-    times.motion += t.elapsed().as_secs_f64();
-    let t = Instant::now();
-    let cloud = lines_to_cloud(&sweep.lines, &sweep.motion, robot, base, scanner.spec())?;
-    times.acquisition += t.elapsed().as_secs_f64();
+    let mut collisions = 0;
+    let (lines, survey_frames, cloud) = if config.mode == ExploreMode::ShortOnly {
+        let (frames, cloud) = survey(
+            robot,
+            base,
+            arm,
+            camera,
+            config,
+            &mut times,
+            &mut collisions,
+            observer,
+        )?;
+        (0, frames, cloud)
+    } else {
+        observer.event(&ExploreEvent::SweepStarted {
+            waypoints: config.sweep.len(),
+        });
+        let t = Instant::now();
+        let sweep = acquire_sweep(arm, scanner, &config.sweep, config.sweep_speed)?;
+        times.motion += t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let cloud = lines_to_cloud(&sweep.lines, &sweep.motion, robot, base, scanner.spec())?;
+        times.acquisition += t.elapsed().as_secs_f64();
+        (sweep.lines.len(), 0, cloud)
+    };
     observer.event(&ExploreEvent::SweepDone {
-        lines: sweep.lines.len(),
+        lines,
         points: cloud.len(),
     });
     let t = Instant::now();
@@ -160,7 +178,9 @@ where
         objects: one.segmentation.clusters.len(),
     });
     let report = PhaseOneReport {
-        lines: sweep.lines.len(),
+        lines,
+        survey_frames,
+        collisions,
         cloud,
         segmentation: one.segmentation.counts,
         scan: one.map.scan,
@@ -320,6 +340,71 @@ where
             return Ok(collisions);
         }
     }
+}
+
+/// The short-only survey: the camera at each survey pose (first reachable roll with a
+/// collision-free IK solution; poses that cannot be planned to are skipped), every frame
+/// into one cloud with sensor origins. Returns the frames taken and the cloud.
+fn survey<A, C>(
+    robot: &Robot,
+    base: &Pose,
+    arm: &mut A,
+    camera: &mut C,
+    config: &ExploreConfig,
+    times: &mut StepTimes,
+    collisions: &mut usize,
+    observer: &mut dyn ExploreObserver,
+) -> Result<(usize, PointCloud), PipelineError>
+where
+    A: Arm + ?Sized,
+    C: DepthCamera + ?Sized,
+{
+    observer.event(&ExploreEvent::SweepStarted {
+        waypoints: config.survey.len(),
+    });
+    let frame = camera.spec().frame.clone();
+    let world = CollisionWorld::new(robot, &config.obstacles)?;
+    let planner = MotionPlanner::new(world, config.planner)?;
+    let rolls = config.nbv.roll_candidates.max(1);
+    let mut cloud = PointCloud::default();
+    let mut frames = 0;
+    for (k, target) in config.survey.iter().enumerate() {
+        let goals: Vec<_> = (0..rolls)
+            .flat_map(|r| {
+                let pose = view_pose_rolled(target, std::f64::consts::TAU * r as f64 / rolls as f64);
+                robot.ik(&frame, &pose).unwrap_or_default()
+            })
+            .map(|s| s.joints)
+            .filter(|q| !planner.world().in_collision(q))
+            .collect();
+        if goals.is_empty() {
+            continue;
+        }
+        let t = Instant::now();
+        let start = arm.joints()?;
+        let planned = planner.plan(&start, &goals, config.seed ^ (k as u64 + 1));
+        times.planning += t.elapsed().as_secs_f64();
+        let Ok(planned) = planned else { continue };
+        let t = Instant::now();
+        match arm.execute(&planned.path) {
+            Ok(_) => {}
+            Err(RigError::Collision { .. }) => {
+                times.motion += t.elapsed().as_secs_f64();
+                *collisions += 1;
+                continue;
+            }
+            Err(e) => return Err(e.into()),
+        }
+        times.motion += t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let image = camera.capture()?;
+        let joints = arm.joints()?;
+        let pose = sensor_pose(robot, base, &joints, &camera.spec().frame)?;
+        cloud.extend(&depth_frame_to_cloud(&image, camera.spec(), &pose)?);
+        times.acquisition += t.elapsed().as_secs_f64();
+        frames += 1;
+    }
+    Ok((frames, cloud))
 }
 
 /// Plans; when the start touches only map voxels (unknown space around the arm that no

@@ -15,14 +15,20 @@ pub enum ExploreMode {
     Hybrid,
     /// The laser sweep only: each object's model is its phase-1 cluster.
     MidOnly,
+    /// No laser: the camera surveys the workspace from [`ExploreConfig::survey`] (moving
+    /// through space no sensor has seen: only the known obstacles are avoided), the
+    /// survey's cloud is segmented and mapped as phase 1 would, then each object is
+    /// explored with next-best views as in the hybrid method.
+    ShortOnly,
 }
 
 impl ExploreMode {
-    /// The name used on the command line and in reports (`hybrid`, `mid-only`).
+    /// The name used on the command line and in reports (`hybrid`, `mid-only`, `short-only`).
     pub fn name(self) -> &'static str {
         match self {
             Self::Hybrid => "hybrid",
             Self::MidOnly => "mid-only",
+            Self::ShortOnly => "short-only",
         }
     }
 }
@@ -32,6 +38,9 @@ impl ExploreMode {
 pub struct ExploreConfig {
     /// The method or a baseline.
     pub mode: ExploreMode,
+    /// Camera poses (world frame) of the short-only survey, in order; each is tried with
+    /// the NBV rolls about its optical axis.
+    pub survey: Vec<crate::math::Pose>,
     /// The sweep's joint waypoints (the first is reached without scanning).
     pub sweep: Vec<Joints>,
     /// Speed fraction of the sweep (0, 1].

@@ -57,9 +57,14 @@ impl StepTimes {
 /// Phase 1 in numbers.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PhaseOneReport {
-    /// Scan lines of the sweep.
+    /// Scan lines of the sweep (0 in short-only mode).
     pub lines: usize,
-    /// The mid-range cloud P (world frame, reported poses, with origins).
+    /// Camera frames of the short-only survey (0 otherwise).
+    pub survey_frames: usize,
+    /// Collisions the rig reported during the survey (the sweep's stop the run).
+    pub collisions: usize,
+    /// The phase-1 cloud P (world frame, reported poses, with origins): the laser sweep's,
+    /// or the camera survey's in short-only mode.
     pub cloud: PointCloud,
     /// Segmentation counts.
     pub segmentation: SegmentationCounts,
