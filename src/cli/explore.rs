@@ -94,6 +94,9 @@ pub fn run_episode(
     pictures: bool,
     quiet: bool,
 ) -> Result<ExploreReport> {
+    if out.exists() && !out.is_dir() {
+        bail!("{}: exists and is not a directory", out.display());
+    }
     let config = scene.explore_config(mode)?;
     let robot = Robot::from_urdf_file(&scene.robot.urdf)
         .with_context(|| format!("robot model {}", scene.robot.urdf.display()))?;

@@ -105,10 +105,15 @@ pub struct ObjectEntry {
     pub candidates_evaluated: usize,
     /// Why exploration stopped.
     pub stop: String,
-    /// Share of the true surface above the table within tolerance of the model.
+    /// Share of the true surface above the table within tolerance of the model (the
+    /// p-ICP-GPA model, `objects/<name>/model.ply`).
     pub coverage: Option<f64>,
     /// Coverage of the phase-1 cluster alone.
     pub coverage_mid_range: Option<f64>,
+    /// Coverage of the views as acquired (no registration).
+    pub coverage_unregistered: Option<f64>,
+    /// Coverage of the sequential-ICP model.
+    pub coverage_icp: Option<f64>,
     /// Mean point error of the views as acquired (no registration).
     pub error_unregistered: Option<RegistrationScore>,
     /// p-ICP-GPA.
@@ -126,6 +131,8 @@ pub struct ObjectEntry {
 pub struct PhaseOneEntry {
     /// Scan lines.
     pub lines: usize,
+    /// Camera frames of the short-only survey.
+    pub survey_frames: usize,
     /// Points in the mid-range cloud.
     pub points: usize,
     /// Clusters found.
@@ -285,6 +292,8 @@ pub fn evaluate(
             stop: stop_text(&object.stop),
             coverage: coverage_of(&object.model()),
             coverage_mid_range: coverage_of(&object.cluster),
+            coverage_unregistered: coverage_of(&object.unregistered_model()),
+            coverage_icp: coverage_of(&object.icp_model()),
             error_unregistered,
             error_gpa,
             error_icp,
@@ -333,6 +342,7 @@ pub fn evaluate(
         seed: scene.seed,
         phase_one: PhaseOneEntry {
             lines: p.lines,
+            survey_frames: p.survey_frames,
             points: p.cloud.len(),
             clusters: exploration.objects.len(),
             occupied: counts.occupied,

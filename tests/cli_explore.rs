@@ -1,0 +1,193 @@
+//! `nbv explore` end to end on a small generated scene (one object): the report's contents,
+//! the files, the baselines, determinism across thread counts, and bad input.
+
+mod common;
+
+use common::{nbv, text};
+use nbv_core::cloud::io::read_cloud;
+use serde_json::Value;
+use std::path::Path;
+
+/// A one-object scene from the generator (seed 3: a horse on the table).
+fn generated_scene(dir: &Path) -> String {
+    let path = dir.join("scene.toml");
+    let out = nbv(&[
+        "scene",
+        "generate",
+        "--seed",
+        "3",
+        "--objects",
+        "1",
+        "-o",
+        path.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    path.display().to_string()
+}
+
+fn explore(scene: &str, out: &Path, extra: &[&str]) -> Value {
+    let mut args = vec!["explore", "--scene", scene, "-o", out.to_str().unwrap(), "-q"];
+    args.extend_from_slice(extra);
+    let run = nbv(&args);
+    assert!(
+        run.status.success(),
+        "{}\n{}",
+        text(&run.stdout),
+        text(&run.stderr)
+    );
+    serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap()
+}
+
+/// The report without its timings (everything else is deterministic).
+fn without_times(v: &Value) -> Value {
+    match v {
+        Value::Object(m) => Value::Object(
+            m.iter()
+                .filter(|(k, _)| k.as_str() != "times")
+                .map(|(k, v)| (k.clone(), without_times(v)))
+                .collect(),
+        ),
+        Value::Array(a) => Value::Array(a.iter().map(without_times).collect()),
+        other => other.clone(),
+    }
+}
+
+fn f(v: &Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
+}
+
+#[test]
+fn hybrid_explores_the_object_and_beats_the_laser_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = generated_scene(dir.path());
+    let out = dir.path().join("run");
+    let r = explore(&scene, &out, &["--no-pictures"]);
+    assert_eq!(r["mode"], "hybrid");
+    assert_eq!(r["totals"]["collisions"], 0, "{r:#}");
+    assert_eq!(r["missed_objects"].as_array().unwrap().len(), 0, "{r:#}");
+    let objects = r["objects"].as_array().unwrap();
+    assert_eq!(objects.len(), 1);
+    let o = &objects[0];
+    assert_eq!(o["name"], "horse");
+    let views = o["views"].as_array().unwrap();
+    assert!(views.len() >= 2, "{o:#}");
+    for v in views {
+        assert!(f(&v["gain_kl"]) >= 0.0, "{v}");
+        assert!(v["object_points"].as_u64().unwrap() > 100, "{v}");
+    }
+    // The short-range views add surface the laser did not see.
+    let (mid, full) = (f(&o["coverage_mid_range"]), f(&o["coverage"]));
+    assert!(mid > 0.2 && full > mid + 0.15, "coverage {mid} -> {full}");
+    assert!(f(&o["coverage_unregistered"]) > mid + 0.15);
+    // Errors against the truth are measured for every method; alignment is below the
+    // point error, which adds the Dinast's centimetre noise.
+    for key in ["error_unregistered", "error_gpa", "error_icp"] {
+        let e = &o[key];
+        assert!(f(&e["alignment"]) > 0.0 && f(&e["alignment"]) < 0.05, "{key}: {e}");
+        assert!(f(&e["mean"]) > f(&e["alignment"]) * 0.5, "{key}: {e}");
+    }
+    assert_eq!(r["totals"]["views"].as_u64().unwrap() as usize, views.len());
+
+    // Files: the phase-1 cloud, both grids, the model and one file per view.
+    let mid_range = read_cloud(out.join("mid_range.ply")).unwrap();
+    assert_eq!(mid_range.len() as u64, r["phase_one"]["points"].as_u64().unwrap());
+    assert!(mid_range.origins.is_some());
+    for f in ["map/grid.nbvgrid", "map/final.nbvgrid", "objects/horse/model.ply"] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    let model = read_cloud(out.join("objects/horse/model.ply")).unwrap();
+    let tags = model.views.as_ref().expect("model has a view column");
+    assert_eq!(
+        *tags.iter().max().unwrap() as usize,
+        views.len(),
+        "cluster + views"
+    );
+    for k in 0..=views.len() {
+        assert!(out.join(format!("objects/horse/views/view_{k:02}.ply")).is_file());
+    }
+
+    // The baseline on the same scene: the cluster alone, no view.
+    let mid_only = explore(
+        &scene,
+        &dir.path().join("mid"),
+        &["--no-pictures", "--mode", "mid-only"],
+    );
+    let m = &mid_only["objects"][0];
+    assert_eq!(m["views"].as_array().unwrap().len(), 0);
+    assert!((f(&m["coverage"]) - mid).abs() < 1e-12);
+}
+
+#[test]
+fn short_only_surveys_with_the_camera() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = generated_scene(dir.path());
+    let r = explore(
+        &scene,
+        &dir.path().join("short"),
+        &["--no-pictures", "--mode", "short-only"],
+    );
+    assert_eq!(r["mode"], "short-only");
+    assert_eq!(r["phase_one"]["lines"], 0);
+    assert!(r["phase_one"]["survey_frames"].as_u64().unwrap() >= 6, "{r:#}");
+    assert_eq!(r["totals"]["collisions"], 0);
+}
+
+#[test]
+fn same_seed_same_report_whatever_the_thread_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = generated_scene(dir.path());
+    let run = |threads: &str, out: &Path| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_nbv"))
+            .env("RAYON_NUM_THREADS", threads)
+            .args(["explore", "--scene", &scene, "-o"])
+            .arg(out)
+            .args(["-q", "--no-pictures"])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let r: Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap())
+                .unwrap();
+        without_times(&r)
+    };
+    let one = run("1", &dir.path().join("t1"));
+    let two = run("2", &dir.path().join("t2"));
+    assert_eq!(one, two);
+    // The model files too.
+    let a = std::fs::read(dir.path().join("t1/objects/horse/model.ply")).unwrap();
+    let b = std::fs::read(dir.path().join("t2/objects/horse/model.ply")).unwrap();
+    assert_eq!(a, b);
+}
+
+#[test]
+fn bad_input_fails_clearly_without_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    let r = nbv(&[
+        "explore",
+        "--scene",
+        "no-such-scene.toml",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(r.status.code(), Some(1));
+    assert!(text(&r.stderr).contains("no-such-scene.toml"), "{}", text(&r.stderr));
+    assert!(!out.exists());
+
+    // The output path is a file.
+    let file = dir.path().join("file");
+    std::fs::write(&file, "x").unwrap();
+    let r = nbv(&[
+        "explore",
+        "--scene",
+        "paper-env1",
+        "--mode",
+        "mid-only",
+        "-o",
+        file.to_str().unwrap(),
+        "-q",
+    ]);
+    assert_eq!(r.status.code(), Some(1));
+    assert!(text(&r.stderr).contains("not a directory"), "{}", text(&r.stderr));
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "x");
+}
