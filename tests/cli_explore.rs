@@ -26,7 +26,14 @@ fn generated_scene(dir: &Path) -> String {
 }
 
 fn explore(scene: &str, out: &Path, extra: &[&str]) -> Value {
-    let mut args = vec!["explore", "--scene", scene, "-o", out.to_str().unwrap(), "-q"];
+    let mut args = vec![
+        "explore",
+        "--scene",
+        scene,
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ];
     args.extend_from_slice(extra);
     let run = nbv(&args);
     assert!(
@@ -83,16 +90,26 @@ fn hybrid_explores_the_object_and_beats_the_laser_alone() {
     // point error, which adds the Dinast's centimetre noise.
     for key in ["error_unregistered", "error_gpa", "error_icp"] {
         let e = &o[key];
-        assert!(f(&e["alignment"]) > 0.0 && f(&e["alignment"]) < 0.05, "{key}: {e}");
+        assert!(
+            f(&e["alignment"]) > 0.0 && f(&e["alignment"]) < 0.05,
+            "{key}: {e}"
+        );
         assert!(f(&e["mean"]) > f(&e["alignment"]) * 0.5, "{key}: {e}");
     }
     assert_eq!(r["totals"]["views"].as_u64().unwrap() as usize, views.len());
 
     // Files: the phase-1 cloud, both grids, the model and one file per view.
     let mid_range = read_cloud(out.join("mid_range.ply")).unwrap();
-    assert_eq!(mid_range.len() as u64, r["phase_one"]["points"].as_u64().unwrap());
+    assert_eq!(
+        mid_range.len() as u64,
+        r["phase_one"]["points"].as_u64().unwrap()
+    );
     assert!(mid_range.origins.is_some());
-    for f in ["map/grid.nbvgrid", "map/final.nbvgrid", "objects/horse/model.ply"] {
+    for f in [
+        "map/grid.nbvgrid",
+        "map/final.nbvgrid",
+        "objects/horse/model.ply",
+    ] {
         assert!(out.join(f).is_file(), "{f}");
     }
     let model = read_cloud(out.join("objects/horse/model.ply")).unwrap();
@@ -103,7 +120,10 @@ fn hybrid_explores_the_object_and_beats_the_laser_alone() {
         "cluster + views"
     );
     for k in 0..=views.len() {
-        assert!(out.join(format!("objects/horse/views/view_{k:02}.ply")).is_file());
+        assert!(
+            out.join(format!("objects/horse/views/view_{k:02}.ply"))
+                .is_file()
+        );
     }
 
     // The baseline on the same scene: the cluster alone, no view.
@@ -128,7 +148,10 @@ fn short_only_surveys_with_the_camera() {
     );
     assert_eq!(r["mode"], "short-only");
     assert_eq!(r["phase_one"]["lines"], 0);
-    assert!(r["phase_one"]["survey_frames"].as_u64().unwrap() >= 6, "{r:#}");
+    assert!(
+        r["phase_one"]["survey_frames"].as_u64().unwrap() >= 6,
+        "{r:#}"
+    );
     assert_eq!(r["totals"]["collisions"], 0);
 }
 
@@ -171,7 +194,11 @@ fn bad_input_fails_clearly_without_output() {
         out.to_str().unwrap(),
     ]);
     assert_eq!(r.status.code(), Some(1));
-    assert!(text(&r.stderr).contains("no-such-scene.toml"), "{}", text(&r.stderr));
+    assert!(
+        text(&r.stderr).contains("no-such-scene.toml"),
+        "{}",
+        text(&r.stderr)
+    );
     assert!(!out.exists());
 
     // The output path is a file.
@@ -188,6 +215,10 @@ fn bad_input_fails_clearly_without_output() {
         "-q",
     ]);
     assert_eq!(r.status.code(), Some(1));
-    assert!(text(&r.stderr).contains("not a directory"), "{}", text(&r.stderr));
+    assert!(
+        text(&r.stderr).contains("not a directory"),
+        "{}",
+        text(&r.stderr)
+    );
     assert_eq!(std::fs::read_to_string(&file).unwrap(), "x");
 }

@@ -10,9 +10,8 @@ use nbv_core::occupancy::ReducedMap;
 use nbv_core::pipeline::Exploration;
 use nbv_scenes::Scene;
 use nbv_sim::render::{
-    UnknownVoxels,
-    Camera, CloudColoring, Color, LineSet, PointSet, RenderScene, Renderer, fitted_front_and_back,
-    front_and_back, map_items, save_png, scene_items,
+    Camera, CloudColoring, Color, LineSet, PointSet, RenderScene, Renderer, UnknownVoxels,
+    fitted_front_and_back, front_and_back, map_items, save_png, scene_items,
 };
 use std::path::Path;
 

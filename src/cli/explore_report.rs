@@ -264,7 +264,7 @@ pub fn evaluate(
         let score = |poses: &[Pose], converged: bool, views: &[nbv_core::cloud::PointCloud]| {
             let e = point_error(views, poses);
             let a = alignment_error(views, poses);
-            (e.points > 0).then(|| RegistrationScore {
+            (e.points > 0).then_some(RegistrationScore {
                 mean: e.mean,
                 std: e.std,
                 alignment: a.mean,

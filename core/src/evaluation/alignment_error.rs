@@ -72,6 +72,10 @@ mod tests {
         // 1° about z through the origin: points at 0.1 m move 1.75 mm.
         let r = Isometry3::rotation(Vector3::z() * 1f64.to_radians());
         let e = alignment_error(&[v], &[r]);
-        assert!((e.mean - 0.1 * 1f64.to_radians()).abs() < 3e-4, "{}", e.mean);
+        assert!(
+            (e.mean - 0.1 * 1f64.to_radians()).abs() < 3e-4,
+            "{}",
+            e.mean
+        );
     }
 }

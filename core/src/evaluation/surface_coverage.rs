@@ -48,7 +48,7 @@ pub fn sample_surface(mesh: &TriMesh, n: usize, seed: u64) -> Vec<Point3<f64>> {
         total += (b - a).cross(&(c - a)).norm() / 2.0;
         cumulative.push(total);
     }
-    if !(total > 0.0) {
+    if total.is_nan() || total <= 0.0 {
         return Vec::new();
     }
     let mut rng = ChaCha8Rng::seed_from_u64(seed);

@@ -47,8 +47,8 @@ pub use view_pose::{view_pose, view_pose_rolled, view_position, view_rotation};
 pub use view_score::ScoreWeights;
 pub use view_sphere::{SphereSample, ViewSphere};
 pub use viewpoint_list::{
-    Candidate, GoalFilter, NbvParams, NextBestView, Viewpoint, ViewpointList, ViewpointSet, VisibilityForm,
-    sort_best_first,
+    Candidate, GoalFilter, NbvParams, NextBestView, Viewpoint, ViewpointList, ViewpointSet,
+    VisibilityForm, sort_best_first,
 };
 pub use visibility::{
     RayHit, VisibleVoxels, first_hit, first_hit_literal, visible_voxels, visible_voxels_literal,

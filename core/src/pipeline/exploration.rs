@@ -184,7 +184,7 @@ where
         cloud,
         segmentation: one.segmentation.counts,
         scan: one.map.scan,
-        reduced: one.map.reduced.stats().clone(),
+        reduced: *one.map.reduced.stats(),
         grid: one.map.grid,
         times,
     };
@@ -234,7 +234,8 @@ where
         let world = CollisionWorld::new(robot, &config.obstacles)?.with_reduced_map(&reduced);
         let mut planner = MotionPlanner::new(world, config.planner)?;
         let usable = |s: &crate::kinematics::IkSolution| !planner.world().in_collision(&s.joints);
-        let mut list = nbv.candidates_around_where(robot, &reduced, &centroid, &visited, &usable)?;
+        let mut list =
+            nbv.candidates_around_where(robot, &reduced, &centroid, &visited, &usable)?;
         object.times.nbv += t.elapsed().as_secs_f64();
         object.candidates_evaluated += list.candidates.len();
         observer.event(&ExploreEvent::Candidates {
@@ -345,6 +346,7 @@ where
 /// The short-only survey: the camera at each survey pose (first reachable roll with a
 /// collision-free IK solution; poses that cannot be planned to are skipped), every frame
 /// into one cloud with sensor origins. Returns the frames taken and the cloud.
+#[allow(clippy::too_many_arguments)]
 fn survey<A, C>(
     robot: &Robot,
     base: &Pose,
@@ -371,7 +373,8 @@ where
     for (k, target) in config.survey.iter().enumerate() {
         let goals: Vec<_> = (0..rolls)
             .flat_map(|r| {
-                let pose = view_pose_rolled(target, std::f64::consts::TAU * r as f64 / rolls as f64);
+                let pose =
+                    view_pose_rolled(target, std::f64::consts::TAU * r as f64 / rolls as f64);
                 robot.ik(&frame, &pose).unwrap_or_default()
             })
             .map(|s| s.joints)
