@@ -143,6 +143,10 @@ impl Scene {
                 ..RegistrationParams::default()
             },
             registration_points: self.registration.points_per_view as usize,
+            max_correction: (
+                self.registration.max_correction_deg.to_radians(),
+                self.registration.max_correction_m,
+            ),
             object_margin: 0.03,
             seed: self.seed,
         })

@@ -491,6 +491,8 @@ fn parameters(s: &Scene, c: &Check) -> Result<(), SceneError> {
     c.at_least("registration.max_iterations", r.max_iterations.into(), 1)?;
     c.positive("registration.tolerance", r.tolerance)?;
     c.at_least("registration.points_per_view", r.points_per_view.into(), 3)?;
+    c.positive("registration.max_correction_deg", r.max_correction_deg)?;
+    c.positive("registration.max_correction_m", r.max_correction_m)?;
     // Error model.
     let e = &s.errors;
     c.pose("errors.hand_eye", &e.hand_eye)?;

@@ -59,6 +59,10 @@ pub struct RegistrationScore {
     pub alignment_std: f64,
     /// Whether the method reported convergence.
     pub converged: bool,
+    /// Whether the pipeline kept the result: converged and every view's correction within
+    /// `[registration] max_correction_deg` / `max_correction_m` (else the model keeps the
+    /// reported poses).
+    pub accepted: bool,
     /// Not converged, or a mean alignment error above the failure threshold.
     pub failed: bool,
 }
@@ -210,8 +214,10 @@ impl ExploreReport {
         );
         for o in &self.objects {
             let mm = |e: &Option<RegistrationScore>| {
-                e.as_ref()
-                    .map_or("-".to_string(), |e| format!("{:.1} mm", e.alignment * 1e3))
+                e.as_ref().map_or("-".to_string(), |e| {
+                    let mark = if e.accepted { "" } else { "!" };
+                    format!("{:.1} mm{mark}", e.alignment * 1e3)
+                })
             };
             s += &format!(
                 "  {:<12} views {:>2}  failed {:>2}  coverage {:>5}  alignment as acquired {:>7}  gpa {:>7}  icp {:>7}  ({})\n",
@@ -226,6 +232,9 @@ impl ExploreReport {
                 o.stop
             );
         }
+        s += "  (alignment: mean displacement of the true points by each view's misalignment; \
+              ! = rejected, not converged or a correction beyond [registration] \
+              max_correction_*: the model keeps the reported poses)\n";
         s
     }
 }
@@ -261,7 +270,10 @@ pub fn evaluate(
                 .share()
             })
         };
-        let score = |poses: &[Pose], converged: bool, views: &[nbv_core::cloud::PointCloud]| {
+        let score = |poses: &[Pose],
+                     converged: bool,
+                     accepted: bool,
+                     views: &[nbv_core::cloud::PointCloud]| {
             let e = point_error(views, poses);
             let a = alignment_error(views, poses);
             (e.points > 0).then_some(RegistrationScore {
@@ -270,14 +282,15 @@ pub fn evaluate(
                 alignment: a.mean,
                 alignment_std: a.std,
                 converged,
+                accepted,
                 failed: !converged || a.mean > FAILED_REGISTRATION_ERROR,
             })
         };
         let (error_unregistered, error_gpa, error_icp) = match &object.registration {
             Some(r) => (
-                score(&vec![Pose::identity(); r.views.len()], true, &r.views),
-                score(&r.gpa.poses, r.gpa.converged, &r.views),
-                score(&r.icp.poses, r.icp.converged, &r.views),
+                score(&vec![Pose::identity(); r.views.len()], true, true, &r.views),
+                score(&r.gpa.poses, r.gpa.converged, r.gpa_accepted, &r.views),
+                score(&r.icp.poses, r.icp.converged, r.icp_accepted, &r.views),
             ),
             None => (None, None, None),
         };

@@ -106,7 +106,12 @@ where
         });
         if object.views.iter().any(|v| !v.cloud.is_empty()) {
             let t = Instant::now();
-            match register_object(&object, &config.registration, config.registration_points) {
+            match register_object(
+                &object,
+                &config.registration,
+                config.registration_points,
+                config.max_correction,
+            ) {
                 Ok(r) => object.registration = Some(r),
                 Err(e) => object.registration_error = Some(e.to_string()),
             }
@@ -469,6 +474,7 @@ fn register_object(
     object: &ObjectExploration,
     params: &RegistrationParams,
     points: usize,
+    max_correction: (f64, f64),
 ) -> Result<ObjectRegistration, crate::registration::RegistrationError> {
     let mut views = vec![subsample(&object.cluster, points)];
     views.extend(
@@ -499,5 +505,23 @@ fn register_object(
             ..params.clone()
         },
     )?;
-    Ok(ObjectRegistration { views, gpa, icp })
+    let accepted = |r: &crate::registration::Registration| {
+        r.converged && within_correction(&views, &r.poses, max_correction)
+    };
+    Ok(ObjectRegistration {
+        gpa_accepted: accepted(&gpa),
+        icp_accepted: accepted(&icp),
+        views,
+        gpa,
+        icp,
+    })
+}
+
+/// Whether every pose (a correction of a view given in the world frame) turns by at most
+/// `max.0` rad and moves the view's centroid by at most `max.1` m.
+fn within_correction(views: &[PointCloud], poses: &[Pose], max: (f64, f64)) -> bool {
+    views.iter().zip(poses).all(|(v, p)| {
+        let moved = v.centroid().is_none_or(|c| (p * c - c).norm() <= max.1);
+        p.rotation.angle() <= max.0 && moved
+    })
 }

@@ -64,6 +64,10 @@ pub struct ExploreConfig {
     pub registration: RegistrationParams,
     /// Points per view kept for registration (views are subsampled evenly); 0 keeps all.
     pub registration_points: usize,
+    /// Largest correction a registration may apply to a view's reported pose: rotation
+    /// (rad) and displacement of the view's centroid (m). Beyond it the registration is
+    /// rejected and the model keeps the reported poses.
+    pub max_correction: (f64, f64),
     /// Margin (m) around an object's phase-1 bounding box within which short-range points
     /// belong to the object.
     pub object_margin: f64,

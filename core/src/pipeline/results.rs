@@ -135,6 +135,10 @@ pub struct ObjectRegistration {
     pub gpa: Registration,
     /// Sequential ICP (view h onto view h−1).
     pub icp: Registration,
+    /// Whether p-ICP-GPA converged within the correction bound.
+    pub gpa_accepted: bool,
+    /// Whether sequential ICP converged within the correction bound.
+    pub icp_accepted: bool,
 }
 
 /// One object of the exploration.
@@ -162,14 +166,22 @@ pub struct ObjectExploration {
 
 impl ObjectExploration {
     /// The object's model: its views merged through the p-ICP-GPA poses, with a `views`
-    /// column (the cluster alone when there was nothing to register).
+    /// column; the views as acquired when the registration was rejected
+    /// ([`ObjectRegistration::gpa_accepted`]); the cluster alone when there was nothing
+    /// to register.
     pub fn model(&self) -> PointCloud {
-        self.merged_with(|r| &r.gpa)
+        match &self.registration {
+            Some(r) if !r.gpa_accepted => self.unregistered_model(),
+            _ => self.merged_with(|r| &r.gpa),
+        }
     }
 
-    /// The model by the sequential ICP baseline.
+    /// The model by the sequential ICP baseline (as acquired when it was rejected).
     pub fn icp_model(&self) -> PointCloud {
-        self.merged_with(|r| &r.icp)
+        match &self.registration {
+            Some(r) if !r.icp_accepted => self.unregistered_model(),
+            _ => self.merged_with(|r| &r.icp),
+        }
     }
 
     /// The views as acquired, before registration, with a `views` column.

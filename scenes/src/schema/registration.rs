@@ -16,6 +16,13 @@ pub struct Registration {
     pub tolerance: f64,
     /// Points per view after undersampling. Default 2000 (paper).
     pub points_per_view: u32,
+    /// Largest correction (degrees) a registration may apply to a view's reported pose:
+    /// the robot's kinematics bound the pose error, so a larger turn (a slide along a
+    /// symmetry of the object) marks the registration as rejected and the model keeps the
+    /// reported poses. Default 5.
+    pub max_correction_deg: f64,
+    /// Largest displacement (m) of a view's centroid by the correction. Default 0.03.
+    pub max_correction_m: f64,
 }
 
 impl Default for Registration {
@@ -25,6 +32,8 @@ impl Default for Registration {
             max_iterations: 100,
             tolerance: 1e-6,
             points_per_view: 2000,
+            max_correction_deg: 5.0,
+            max_correction_m: 0.03,
         }
     }
 }
