@@ -29,6 +29,9 @@ enum Command {
     /// Register views (PLY/PCD) globally by p-ICP-GPA or sequential ICP; write the poses
     /// and the merged model.
     Register(cli::register::RegisterArgs),
+    /// Phase 1 in the twin, then each object's sorted next-best-view candidates: |O_v|,
+    /// score, reachable, planned, collision in truth.
+    Views(cli::views::ViewsArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -48,6 +51,7 @@ fn main() -> std::process::ExitCode {
         Command::Map(args) => cli::map::run(args).map(|()| std::process::ExitCode::SUCCESS),
         Command::Render(args) => cli::render::run(args).map(|()| std::process::ExitCode::SUCCESS),
         Command::Register(args) => cli::register::run(args),
+        Command::Views(args) => cli::views::run(args).map(|()| std::process::ExitCode::SUCCESS),
     };
     match result {
         Ok(code) => code,

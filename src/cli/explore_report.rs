@@ -407,7 +407,12 @@ fn stop_text(stop: &ObjectStop) -> String {
 /// The scene object most of the cluster's points hit (by the truth labels), if more than
 /// half of them hit that object.
 fn true_object(object: &ObjectExploration, scene: &Scene) -> Option<usize> {
-    let labels = object.cluster.labels.as_ref()?;
+    true_object_of(&object.cluster, scene)
+}
+
+/// The scene object most of a cluster's points hit in truth (more than half of them).
+pub fn true_object_of(cluster: &nbv_core::cloud::PointCloud, scene: &Scene) -> Option<usize> {
+    let labels = cluster.labels.as_ref()?;
     let mut counts = vec![0usize; scene.objects.len()];
     for &l in labels {
         if let Some(TruthLabel::Object(i)) = TruthLabel::from_code(l)

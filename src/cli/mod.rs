@@ -9,3 +9,4 @@ pub mod register;
 pub mod render;
 pub mod scan;
 pub mod scene;
+pub mod views;

@@ -129,8 +129,9 @@ where
     })
 }
 
-/// Phase 1: sweep (or, short-only, the camera survey), cloud, segmentation, grid.
-fn run_phase_one<A, L, C>(
+/// Phase 1 on a rig: the laser sweep (or, short-only, the camera survey), the cloud, the
+/// object segmentation and the grid — what [`explore`] does before the first object.
+pub fn run_phase_one<A, L, C>(
     robot: &Robot,
     base: &Pose,
     arm: &mut A,

@@ -16,7 +16,7 @@ mod object_crop;
 mod pipeline_error;
 mod results;
 
-pub use exploration::explore;
+pub use exploration::{explore, run_phase_one};
 pub use explore_config::{ExploreConfig, ExploreMode};
 pub use explore_event::{ExploreEvent, ExploreObserver, NoObserver};
 pub use object_crop::ObjectRegion;

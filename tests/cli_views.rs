@@ -1,0 +1,77 @@
+//! `nbv views` on both paper scenes: every object gets a non-empty list sorted by eq. (4)
+//! whose best view sees unknown voxels; at least 95% of the planning queries to reachable
+//! viewpoints succeed over the two scenes (≥ 100 queries with the paper's sphere) and no
+//! planned path collides in truth. Plus the errors for a bad object name.
+
+mod common;
+
+use common::{nbv, text};
+use serde_json::Value;
+
+fn views(scene: &str) -> Vec<Value> {
+    let out = nbv(&["views", "--scene", scene, "--json"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    serde_json::from_slice::<Value>(&out.stdout)
+        .unwrap()
+        .as_array()
+        .unwrap()
+        .clone()
+}
+
+#[test]
+fn paper_scenes_give_sorted_lists_and_plans_that_hold_in_truth() {
+    let (mut queries, mut planned) = (0, 0);
+    for scene in ["paper-env1", "paper-env2"] {
+        let objects = views(scene);
+        assert_eq!(objects.len(), 3, "{scene}");
+        for o in &objects {
+            let c = o["candidates"].as_array().unwrap();
+            assert!(!c.is_empty(), "{scene} {}", o["name"]);
+            assert!(
+                c[0]["unknown"].as_u64().unwrap() > 0,
+                "{scene} {}",
+                o["name"]
+            );
+            let scores: Vec<f64> = c.iter().map(|c| c["score"].as_f64().unwrap()).collect();
+            assert!(scores.windows(2).all(|w| w[0] >= w[1]), "{scores:?}");
+            // Eq. (4) with the defaults (4, 1).
+            for v in c {
+                let s = 4.0 * v["unknown"].as_f64().unwrap() + v["occupied"].as_f64().unwrap();
+                assert_eq!(v["score"].as_f64().unwrap(), s);
+                assert_eq!(v["reachable"], true);
+                queries += 1;
+                if v["planned"] == true {
+                    planned += 1;
+                    assert_eq!(v["collision"], false, "{scene} {}: {v}", o["name"]);
+                } else {
+                    assert!(v["failure"].as_str().is_some_and(|f| !f.is_empty()));
+                }
+            }
+        }
+    }
+    assert!(queries >= 100, "{queries} queries");
+    assert!(
+        planned as f64 >= 0.95 * queries as f64,
+        "{planned} of {queries} planned"
+    );
+}
+
+#[test]
+fn table_output_and_bad_object() {
+    let out = nbv(&[
+        "views",
+        "--scene",
+        "paper-env1",
+        "--object",
+        "mallet",
+        "--no-plan",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let s = text(&out.stdout);
+    assert!(s.starts_with("mallet: centroid"), "{s}");
+    assert!(!s.contains("jug"), "{s}");
+    let out = nbv(&["views", "--scene", "paper-env1", "--object", "teapot"]);
+    assert_eq!(out.status.code(), Some(1));
+    let e = text(&out.stderr);
+    assert!(e.contains("teapot") && e.contains("jug, mallet"), "{e}");
+}
