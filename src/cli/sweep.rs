@@ -1,0 +1,480 @@
+//! `nbv sweep run | merge`: episodes of `nbv explore` over a grid of scenes, modes, scene
+//! parameters and seeds, in parallel, resumable, shardable for batch schedulers, with a
+//! CSV, a machine-readable summary, plots and `--require` gates for CI.
+//!
+//! Layout of a sweep directory:
+//! ```text
+//! DIR/sweep.json               the grid (file, hash, episode count) and the shard
+//! DIR/episodes/<id>.row.json   one finished episode (written atomically, last)
+//! DIR/episodes/<id>/           its `nbv explore` outputs (report.json, models, map)
+//! DIR/results.csv              one row per finished episode, by index
+//! DIR/summary.json             aggregates, best settings, registration table, gates
+//! DIR/plots/*.svg              heatmap of coverage, coverage against views
+//! ```
+//! A run skips the episodes whose row file exists, so an interrupted sweep resumes without
+//! losing or duplicating rows; `merge` unions the rows of shard directories.
+
+use super::sweep_gate::{Gate, GateResult};
+use super::sweep_grid::{Episode, SweepGrid};
+use super::sweep_results::{
+    Aggregate, BestSetting, EpisodeRow, RegistrationLine, best_setting, csv_text,
+    registration_table,
+};
+use anyhow::{Context, Result, bail};
+use clap::{Args, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+/// Exit status when the sweep ran but a `--require` gate failed (outputs are written).
+pub const EXIT_GATE_FAILED: u8 = 4;
+
+/// Arguments of `nbv sweep`.
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    #[command(subcommand)]
+    command: SweepCommand,
+}
+
+#[derive(Debug, Subcommand)]
+enum SweepCommand {
+    /// Runs (or resumes) the episodes of a grid file.
+    Run(RunArgs),
+    /// Unions the rows of several sweep directories (e.g. shards) into one.
+    Merge(MergeArgs),
+}
+
+/// `nbv sweep run`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+GRID FILE (TOML)
+  scenes = [\"paper-env1\", \"my-scene.toml\"]      # files or built-in names
+  generated = { seeds = [1, 2], objects = 1 }     # scenes by `nbv scene generate`
+  seeds = [1, 2]                                  # episode seeds (default: the scene's)
+  modes = [\"hybrid\", \"mid-only\"]                 # default: hybrid
+  [params]                                        # dotted scene keys and values to try
+  \"nbv.alpha_u\" = [2.0, 4.0]
+  \"nbv.gain_threshold\" = [5.0, 10.0]
+  Episodes: scenes (listed, then generated) x modes x parameter combinations (keys in
+  alphabetical order, the last fastest) x seeds. Episode k belongs to shard k mod n.
+
+GATES (--require, repeatable)
+  METRIC OP VALUE with OP in >=, <=, ==, >, <. Metrics over all finished episodes:
+  coverage (smallest per-episode mean coverage), coverage_mean, collisions (total),
+  views (total), failed_registrations (p-ICP-GPA, total), error_gpa (largest per-episode
+  mean alignment error, m), error_gpa_mean, error_icp_mean, missed (objects no cluster
+  matched, total). A failed gate prints the measured value and exits with status 4;
+  the outputs are written all the same.
+
+EXIT STATUS
+  0 all episodes finished and every gate holds; 1 error; 2 usage; 4 a gate failed.")]
+pub struct RunArgs {
+    /// The grid file.
+    grid: PathBuf,
+    /// Output directory (created; finished episodes in it are kept and skipped).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Run only shard I of N (0-based): episodes whose index mod N is I.
+    #[arg(long, value_name = "I/N")]
+    shard: Option<Shard>,
+    /// Episodes run at once.
+    #[arg(long, default_value_t = 1)]
+    jobs: usize,
+    /// A gate on the aggregate (see GATES).
+    #[arg(long = "require", value_name = "METRIC OP VALUE")]
+    require: Vec<Gate>,
+    /// Also write each episode's pictures.
+    #[arg(long)]
+    pictures: bool,
+    /// No progress bar.
+    #[arg(long, short)]
+    quiet: bool,
+}
+
+/// `nbv sweep merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// Sweep directories of the same grid (e.g. its shards).
+    #[arg(required = true)]
+    inputs: Vec<PathBuf>,
+    /// Output directory.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// A gate on the aggregate (see `nbv sweep run --help`).
+    #[arg(long = "require", value_name = "METRIC OP VALUE")]
+    require: Vec<Gate>,
+}
+
+/// `I/N`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Shard {
+    /// This shard, 0-based.
+    pub index: usize,
+    /// Shards in all.
+    pub count: usize,
+}
+
+impl std::str::FromStr for Shard {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        let bad = || format!("`{s}`: expected I/N with 0 <= I < N (e.g. 0/3)");
+        let (i, n) = s.split_once('/').ok_or_else(bad)?;
+        let (index, count) = (
+            i.trim().parse().map_err(|_| bad())?,
+            n.trim().parse().map_err(|_| bad())?,
+        );
+        if count == 0 || index >= count {
+            return Err(bad());
+        }
+        Ok(Self { index, count })
+    }
+}
+
+/// `DIR/sweep.json`: what a sweep directory holds.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+struct SweepInfo {
+    /// The grid file as given.
+    grid: PathBuf,
+    /// Its text (so a merge can check the shards come from the same grid).
+    grid_text: String,
+    /// Episodes in the whole grid.
+    episodes: usize,
+    /// The shard this directory ran (none: all).
+    shard: Option<Shard>,
+}
+
+/// `DIR/summary.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    /// Episodes in the grid.
+    pub episodes_expected: usize,
+    /// Episodes with a row.
+    pub episodes_finished: usize,
+    /// Indices of the grid's episodes without a row.
+    pub missing: Vec<usize>,
+    /// Aggregates (the gateable metrics).
+    pub aggregate: Aggregate,
+    /// Mode and parameters with the largest mean coverage gain per view.
+    pub best_by_coverage_per_view: Option<BestSetting>,
+    /// Mode and parameters with the smallest mean p-ICP-GPA alignment error.
+    pub best_by_registration_error: Option<BestSetting>,
+    /// Per object over every episode: p-ICP-GPA and sequential ICP (Table III).
+    pub registration: Vec<RegistrationLine>,
+    /// The gates and their outcomes.
+    pub gates: Vec<GateResult>,
+}
+
+/// Runs `nbv sweep`.
+pub fn run(args: SweepArgs) -> Result<ExitCode> {
+    match args.command {
+        SweepCommand::Run(a) => run_grid(a),
+        SweepCommand::Merge(a) => merge(a),
+    }
+}
+
+fn run_grid(args: RunArgs) -> Result<ExitCode> {
+    let grid = SweepGrid::load(&args.grid)?;
+    let grid_text = std::fs::read_to_string(&args.grid)
+        .with_context(|| format!("reading {}", args.grid.display()))?;
+    if args.jobs == 0 {
+        bail!("--jobs must be at least 1");
+    }
+    let out = &args.output;
+    if out.exists() && !out.is_dir() {
+        bail!("{}: exists and is not a directory", out.display());
+    }
+    let info = SweepInfo {
+        grid: args.grid.clone(),
+        grid_text,
+        episodes: grid.len(),
+        shard: args.shard,
+    };
+    let info_path = out.join("sweep.json");
+    if info_path.exists() {
+        let old: SweepInfo = serde_json::from_str(&std::fs::read_to_string(&info_path)?)
+            .with_context(|| format!("{}: not a sweep directory", out.display()))?;
+        if old.grid_text != info.grid_text || old.shard != info.shard {
+            bail!(
+                "{}: holds a sweep of another grid or shard ({}); use a new directory",
+                out.display(),
+                old.grid.display()
+            );
+        }
+    }
+    std::fs::create_dir_all(out.join("episodes"))
+        .with_context(|| format!("creating {}", out.display()))?;
+    write_json(&info_path, &info)?;
+
+    let mine: Vec<Episode> = grid
+        .episodes()
+        .into_iter()
+        .filter(|e| args.shard.is_none_or(|s| e.index % s.count == s.index))
+        .collect();
+    let todo: Vec<&Episode> = mine.iter().filter(|e| !row_path(out, e).exists()).collect();
+    eprintln!(
+        "{}: {} episode(s) in the grid, {} in this shard, {} already done, {} to run",
+        args.grid.display(),
+        grid.len(),
+        mine.len(),
+        mine.len() - todo.len(),
+        todo.len()
+    );
+    let bar = if args.quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(todo.len() as u64)
+    };
+    bar.set_style(
+        ProgressStyle::with_template("[{elapsed_precise}] {bar:30} {pos}/{len} episodes {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.jobs)
+        .build()
+        .context("starting the episode pool")?;
+    let results: Vec<Result<()>> = pool.install(|| {
+        todo.par_iter()
+            .map(|e| {
+                let r = run_one(&grid, e, out, args.pictures);
+                bar.inc(1);
+                r.with_context(|| format!("episode {} ({})", e.id, e.scene.label()))
+            })
+            .collect()
+    });
+    bar.finish_and_clear();
+    // The first error (by episode order) fails the run; finished episodes are kept.
+    for r in results {
+        r?;
+    }
+    let rows = load_rows(&[out.clone()])?;
+    finish(out, &grid, &rows, &args.require, args.shard)
+}
+
+/// One episode: its scene, `nbv explore`'s episode, then the row file (written last, so
+/// a row exists only for a finished episode).
+fn run_one(grid: &SweepGrid, e: &Episode, out: &Path, pictures: bool) -> Result<()> {
+    let scene = e.scene(&grid.file)?;
+    let dir = out.join("episodes").join(&e.id);
+    let t = Instant::now();
+    let report = super::explore::run_episode(&scene, e.mode, &dir, pictures, true)?;
+    let row = EpisodeRow::new(e, &report, t.elapsed().as_secs_f64());
+    write_json(&row_path(out, e), &row)
+}
+
+fn row_path(out: &Path, e: &Episode) -> PathBuf {
+    out.join("episodes").join(format!("{}.row.json", e.id))
+}
+
+fn write_json<T: Serialize>(path: &Path, value: &T) -> Result<()> {
+    let text = serde_json::to_string_pretty(value)?;
+    nbv_scenes::paths::write_atomic(path, text.as_bytes())
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+/// Every row file of the directories, by index; the same id twice must be the same row.
+fn load_rows(dirs: &[PathBuf]) -> Result<Vec<EpisodeRow>> {
+    let mut rows: Vec<EpisodeRow> = Vec::new();
+    for dir in dirs {
+        let episodes = dir.join("episodes");
+        let entries = std::fs::read_dir(&episodes)
+            .with_context(|| format!("reading {}", episodes.display()))?;
+        let mut paths: Vec<PathBuf> = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.to_string_lossy().ends_with(".row.json"))
+            .collect();
+        paths.sort();
+        for p in paths {
+            let row = EpisodeRow::load(&p)?;
+            if let Some(old) = rows.iter().find(|r| r.id == row.id) {
+                let same = EpisodeRow {
+                    time_s: old.time_s,
+                    ..row.clone()
+                } == *old;
+                if !same {
+                    bail!(
+                        "{}: episode {} differs from the same episode in another input",
+                        p.display(),
+                        row.id
+                    );
+                }
+                continue;
+            }
+            rows.push(row);
+        }
+    }
+    rows.sort_by_key(|r| r.index);
+    Ok(rows)
+}
+
+/// Writes the CSV, the summary and the plots; checks the gates.
+fn finish(
+    out: &Path,
+    grid: &SweepGrid,
+    rows: &[EpisodeRow],
+    gates: &[Gate],
+    shard: Option<Shard>,
+) -> Result<ExitCode> {
+    nbv_scenes::paths::write_atomic(&out.join("results.csv"), csv_text(rows)?.as_bytes())
+        .with_context(|| format!("writing {}", out.join("results.csv").display()))?;
+    let aggregate = Aggregate::of(rows);
+    let expected: Vec<usize> = (0..grid.len())
+        .filter(|k| shard.is_none_or(|s| k % s.count == s.index))
+        .collect();
+    let missing: Vec<usize> = expected
+        .iter()
+        .copied()
+        .filter(|k| !rows.iter().any(|r| r.index == *k))
+        .collect();
+    let gate_results: Vec<GateResult> = gates.iter().map(|g| g.check(&aggregate)).collect();
+    let summary = Summary {
+        episodes_expected: expected.len(),
+        episodes_finished: rows.len(),
+        missing,
+        aggregate,
+        best_by_coverage_per_view: best_setting(rows, |r| r.coverage_gain_per_view, true),
+        best_by_registration_error: best_setting(rows, |r| r.error_gpa, false),
+        registration: registration_table(rows),
+        gates: gate_results.clone(),
+    };
+    write_json(&out.join("summary.json"), &summary)?;
+    let plots = super::sweep_plots::write(&out.join("plots"), rows)?;
+    print!("{}", summary_text(&summary, out, &plots));
+    if gate_results.iter().all(|g| g.pass) {
+        Ok(ExitCode::SUCCESS)
+    } else {
+        Ok(ExitCode::from(EXIT_GATE_FAILED))
+    }
+}
+
+fn summary_text(s: &Summary, out: &Path, plots: &[String]) -> String {
+    let a = &s.aggregate;
+    let mut t = format!(
+        "{} of {} episode(s): coverage min {:.1}% mean {:.1}%, {} view(s), {} collision(s), \
+         p-ICP-GPA error mean {:.1} mm (max {:.1}), ICP {:.1} mm, {} failed registration(s); \
+         {:.0} episodes/hour\n",
+        s.episodes_finished,
+        s.episodes_expected,
+        100.0 * a.coverage,
+        100.0 * a.coverage_mean,
+        a.views,
+        a.collisions,
+        1e3 * a.error_gpa_mean,
+        1e3 * a.error_gpa,
+        1e3 * a.error_icp_mean,
+        a.failed_registrations,
+        a.episodes_per_hour
+    );
+    let setting = |b: &Option<BestSetting>| {
+        b.as_ref().map_or("-".to_string(), |b| {
+            let kv: Vec<String> = b.setting.iter().map(|(k, v)| format!("{k}={v}")).collect();
+            format!(
+                "{} ({:.4}, {} episode(s))",
+                kv.join(" "),
+                b.value,
+                b.episodes
+            )
+        })
+    };
+    t += &format!(
+        "best by coverage gain per view: {}\nbest by p-ICP-GPA error: {}\n",
+        setting(&s.best_by_coverage_per_view),
+        setting(&s.best_by_registration_error)
+    );
+    if !s.registration.is_empty() {
+        t += "registration (alignment error, mm: mean (std); failures):\n";
+        t += "  object        n   p-ICP-GPA        ICP              failures GPA/ICP\n";
+        for l in &s.registration {
+            t += &format!(
+                "  {:<12} {:>2}   {:>5.1} ({:>4.1})    {:>5.1} ({:>4.1})     {}/{}\n",
+                l.object,
+                l.experiments,
+                1e3 * l.gpa.0,
+                1e3 * l.gpa.1,
+                1e3 * l.icp.0,
+                1e3 * l.icp.1,
+                l.gpa_failures,
+                l.icp_failures
+            );
+        }
+    }
+    for g in &s.gates {
+        t += &format!(
+            "gate {}: {} (measured {})\n",
+            g.gate,
+            if g.pass { "pass" } else { "FAILED" },
+            g.measured
+        );
+    }
+    if !s.missing.is_empty() {
+        t += &format!("missing episodes: {:?}\n", s.missing);
+    }
+    t += &format!(
+        "wrote {}/results.csv, summary.json{}\n",
+        out.display(),
+        plots
+            .iter()
+            .map(|p| format!(", plots/{p}"))
+            .collect::<String>()
+    );
+    t
+}
+
+fn merge(args: MergeArgs) -> Result<ExitCode> {
+    let mut info: Option<SweepInfo> = None;
+    for dir in &args.inputs {
+        let path = dir.join("sweep.json");
+        let text = std::fs::read_to_string(&path)
+            .with_context(|| format!("{}: not a sweep directory (no sweep.json)", dir.display()))?;
+        let this: SweepInfo = serde_json::from_str(&text)
+            .with_context(|| format!("{}: not a sweep description", path.display()))?;
+        if let Some(first) = &info
+            && first.grid_text != this.grid_text
+        {
+            bail!(
+                "{}: a sweep of another grid than {}",
+                dir.display(),
+                args.inputs[0].display()
+            );
+        }
+        info.get_or_insert(this);
+    }
+    let Some(info) = info else {
+        bail!("no input directory");
+    };
+    let grid = SweepGrid::parse(&info.grid_text, &info.grid)?;
+    let rows = load_rows(&args.inputs)?;
+    let out = &args.output;
+    std::fs::create_dir_all(out.join("episodes"))
+        .with_context(|| format!("creating {}", out.display()))?;
+    write_json(
+        &out.join("sweep.json"),
+        &SweepInfo {
+            shard: None,
+            ..info.clone()
+        },
+    )?;
+    for r in &rows {
+        write_json(&out.join("episodes").join(format!("{}.row.json", r.id)), r)?;
+    }
+    finish(out, &grid, &rows, &args.require, None)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shards_parse() {
+        assert_eq!(
+            "1/3".parse::<Shard>().unwrap(),
+            Shard { index: 1, count: 3 }
+        );
+        assert!("3/3".parse::<Shard>().is_err());
+        assert!("0/0".parse::<Shard>().is_err());
+        assert!("x".parse::<Shard>().unwrap_err().contains("I/N"));
+    }
+}

@@ -1,0 +1,458 @@
+//! A sweep's results: one [`EpisodeRow`] per finished episode (its parameters and metrics,
+//! from the episode's report), `results.csv` from all rows, and the machine-readable
+//! [`Summary`] — aggregates, the best settings by coverage gain per view and by p-ICP-GPA
+//! error, and the per-object registration table (the paper's Table III on the twin).
+
+use super::explore_report::ExploreReport;
+use super::sweep_grid::Episode;
+use anyhow::{Context, Result};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// One episode's parameters and metrics (a row of `results.csv`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EpisodeRow {
+    /// Position in the grid's expansion.
+    pub index: usize,
+    /// Stable episode id.
+    pub id: String,
+    /// Scene label.
+    pub scene: String,
+    /// Mode.
+    pub mode: String,
+    /// The episode's seed.
+    pub seed: u64,
+    /// Swept parameters, as text, in the grid's key order.
+    pub params: Vec<(String, String)>,
+    /// Objects in the scene.
+    pub objects: usize,
+    /// Scene objects no cluster matched.
+    pub missed: usize,
+    /// Short-range views taken.
+    pub views: usize,
+    /// Viewpoints that failed.
+    pub failed_viewpoints: usize,
+    /// Collisions in truth.
+    pub collisions: usize,
+    /// Mean surface coverage over the matched objects (p-ICP-GPA model).
+    pub coverage: f64,
+    /// Smallest object coverage.
+    pub coverage_min: f64,
+    /// Mean coverage of the laser clusters alone.
+    pub coverage_mid_range: f64,
+    /// (coverage − coverage_mid_range) / (views per object): what a view adds.
+    pub coverage_gain_per_view: f64,
+    /// Mean alignment error of p-ICP-GPA over the registered objects (m).
+    pub error_gpa: f64,
+    /// Mean alignment error of sequential ICP (m).
+    pub error_icp: f64,
+    /// Mean alignment error of the views as acquired (m).
+    pub error_unregistered: f64,
+    /// p-ICP-GPA registrations that failed (not accepted).
+    pub failed_gpa: usize,
+    /// Sequential-ICP registrations that failed.
+    pub failed_icp: usize,
+    /// Per object: (name, GPA alignment, ICP alignment, GPA failed, ICP failed).
+    pub registrations: Vec<ObjectRegistrationRow>,
+    /// Wall time of the episode (s); the only column that differs between identical runs.
+    pub time_s: f64,
+}
+
+/// One object's registration outcome in an episode.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ObjectRegistrationRow {
+    /// Object name.
+    pub object: String,
+    /// p-ICP-GPA mean alignment error (m).
+    pub gpa: f64,
+    /// Sequential-ICP mean alignment error (m).
+    pub icp: f64,
+    /// p-ICP-GPA failed.
+    pub gpa_failed: bool,
+    /// Sequential ICP failed.
+    pub icp_failed: bool,
+}
+
+fn mean(v: &[f64]) -> f64 {
+    if v.is_empty() {
+        0.0
+    } else {
+        v.iter().sum::<f64>() / v.len() as f64
+    }
+}
+
+fn std_dev(v: &[f64]) -> f64 {
+    let m = mean(v);
+    mean(&v.iter().map(|x| (x - m).powi(2)).collect::<Vec<_>>()).sqrt()
+}
+
+impl EpisodeRow {
+    /// The row of an episode from its report.
+    pub fn new(episode: &Episode, report: &ExploreReport, time_s: f64) -> Self {
+        let objects = &report.objects;
+        let cov: Vec<f64> = objects.iter().filter_map(|o| o.coverage).collect();
+        let mid: Vec<f64> = objects
+            .iter()
+            .filter_map(|o| o.coverage_mid_range)
+            .collect();
+        let views: usize = objects.iter().map(|o| o.views.len()).sum();
+        let per_object_views = views as f64 / objects.len().max(1) as f64;
+        let alignment = |pick: &dyn Fn(&super::explore_report::ObjectEntry) -> Option<f64>| {
+            mean(&objects.iter().filter_map(pick).collect::<Vec<_>>())
+        };
+        let registrations = objects
+            .iter()
+            .filter_map(|o| {
+                let (g, i) = (o.error_gpa.as_ref()?, o.error_icp.as_ref()?);
+                Some(ObjectRegistrationRow {
+                    object: o.name.clone(),
+                    gpa: g.alignment,
+                    icp: i.alignment,
+                    gpa_failed: g.failed,
+                    icp_failed: i.failed,
+                })
+            })
+            .collect::<Vec<_>>();
+        let (coverage, coverage_mid_range) = (mean(&cov), mean(&mid));
+        Self {
+            index: episode.index,
+            id: episode.id.clone(),
+            scene: episode.scene.label(),
+            mode: episode.mode.name().to_string(),
+            seed: report.seed,
+            params: episode
+                .params
+                .iter()
+                .map(|(k, v)| (k.clone(), v.to_string()))
+                .collect(),
+            objects: objects.len() + report.missed_objects.len(),
+            missed: report.missed_objects.len(),
+            views,
+            failed_viewpoints: report.totals.failed_viewpoints,
+            collisions: report.totals.collisions,
+            coverage,
+            coverage_min: cov.iter().copied().fold(f64::INFINITY, f64::min).min(1.0),
+            coverage_mid_range,
+            coverage_gain_per_view: if per_object_views > 0.0 {
+                (coverage - coverage_mid_range) / per_object_views
+            } else {
+                0.0
+            },
+            error_gpa: alignment(&|o| o.error_gpa.as_ref().map(|e| e.alignment)),
+            error_icp: alignment(&|o| o.error_icp.as_ref().map(|e| e.alignment)),
+            error_unregistered: alignment(&|o| o.error_unregistered.as_ref().map(|e| e.alignment)),
+            failed_gpa: registrations.iter().filter(|r| r.gpa_failed).count(),
+            failed_icp: registrations.iter().filter(|r| r.icp_failed).count(),
+            registrations,
+            time_s,
+        }
+    }
+
+    /// Reads a row file.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text =
+            std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+        serde_json::from_str(&text)
+            .with_context(|| format!("{}: not an episode row", path.display()))
+    }
+}
+
+/// The CSV columns after the parameters (`time_s` last).
+const METRICS: [&str; 15] = [
+    "objects",
+    "missed",
+    "views",
+    "failed_viewpoints",
+    "collisions",
+    "coverage",
+    "coverage_min",
+    "coverage_mid_range",
+    "coverage_gain_per_view",
+    "error_gpa",
+    "error_icp",
+    "error_unregistered",
+    "failed_gpa",
+    "failed_icp",
+    "time_s",
+];
+
+/// `results.csv`: a header and one row per episode, by index.
+pub fn csv_text(rows: &[EpisodeRow]) -> Result<String> {
+    let keys: Vec<String> = rows
+        .first()
+        .map(|r| r.params.iter().map(|(k, _)| k.clone()).collect())
+        .unwrap_or_default();
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let mut header = vec!["index", "id", "scene", "mode", "seed"];
+    header.extend(keys.iter().map(String::as_str));
+    header.extend(METRICS);
+    w.write_record(&header)?;
+    for r in rows {
+        let mut rec = vec![
+            r.index.to_string(),
+            r.id.clone(),
+            r.scene.clone(),
+            r.mode.clone(),
+            r.seed.to_string(),
+        ];
+        rec.extend(r.params.iter().map(|(_, v)| v.clone()));
+        rec.extend([
+            r.objects.to_string(),
+            r.missed.to_string(),
+            r.views.to_string(),
+            r.failed_viewpoints.to_string(),
+            r.collisions.to_string(),
+            format!("{:.6}", r.coverage),
+            format!("{:.6}", r.coverage_min),
+            format!("{:.6}", r.coverage_mid_range),
+            format!("{:.6}", r.coverage_gain_per_view),
+            format!("{:.6}", r.error_gpa),
+            format!("{:.6}", r.error_icp),
+            format!("{:.6}", r.error_unregistered),
+            r.failed_gpa.to_string(),
+            r.failed_icp.to_string(),
+            format!("{:.3}", r.time_s),
+        ]);
+        w.write_record(&rec)?;
+    }
+    let bytes = w.into_inner().map_err(|e| anyhow::anyhow!("csv: {e}"))?;
+    Ok(String::from_utf8(bytes)?)
+}
+
+/// Aggregates over all episodes (the metrics `--require` can gate on).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Aggregate {
+    /// Smallest per-episode mean coverage.
+    pub coverage: f64,
+    /// Mean of the per-episode mean coverages.
+    pub coverage_mean: f64,
+    /// Collisions in truth, all episodes.
+    pub collisions: usize,
+    /// Views, all episodes.
+    pub views: usize,
+    /// Failed p-ICP-GPA registrations, all episodes.
+    pub failed_registrations: usize,
+    /// Largest per-episode mean p-ICP-GPA alignment error (m).
+    pub error_gpa: f64,
+    /// Mean per-episode p-ICP-GPA alignment error (m).
+    pub error_gpa_mean: f64,
+    /// Mean per-episode sequential-ICP alignment error (m).
+    pub error_icp_mean: f64,
+    /// Scene objects no cluster matched, all episodes.
+    pub missed: usize,
+    /// Episodes per hour at the measured episode times (one job).
+    pub episodes_per_hour: f64,
+}
+
+impl Aggregate {
+    /// The aggregate of `rows`.
+    pub fn of(rows: &[EpisodeRow]) -> Self {
+        let cov: Vec<f64> = rows.iter().map(|r| r.coverage).collect();
+        let gpa: Vec<f64> = rows.iter().map(|r| r.error_gpa).collect();
+        let time: f64 = rows.iter().map(|r| r.time_s).sum();
+        Self {
+            coverage: cov
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min)
+                .min(1.0)
+                .max(0.0),
+            coverage_mean: mean(&cov),
+            collisions: rows.iter().map(|r| r.collisions).sum(),
+            views: rows.iter().map(|r| r.views).sum(),
+            failed_registrations: rows.iter().map(|r| r.failed_gpa).sum(),
+            error_gpa: gpa.iter().copied().fold(0.0, f64::max),
+            error_gpa_mean: mean(&gpa),
+            error_icp_mean: mean(&rows.iter().map(|r| r.error_icp).collect::<Vec<_>>()),
+            missed: rows.iter().map(|r| r.missed).sum(),
+            episodes_per_hour: if time > 0.0 {
+                3600.0 * rows.len() as f64 / time
+            } else {
+                0.0
+            },
+        }
+    }
+
+    /// A gateable metric by name.
+    pub fn metric(&self, name: &str) -> Option<f64> {
+        Some(match name {
+            "coverage" => self.coverage,
+            "coverage_mean" => self.coverage_mean,
+            "collisions" => self.collisions as f64,
+            "views" => self.views as f64,
+            "failed_registrations" => self.failed_registrations as f64,
+            "error_gpa" => self.error_gpa,
+            "error_gpa_mean" => self.error_gpa_mean,
+            "error_icp_mean" => self.error_icp_mean,
+            "missed" => self.missed as f64,
+            _ => return None,
+        })
+    }
+
+    /// The names [`metric`](Self::metric) knows.
+    pub const METRICS: [&'static str; 9] = [
+        "coverage",
+        "coverage_mean",
+        "collisions",
+        "views",
+        "failed_registrations",
+        "error_gpa",
+        "error_gpa_mean",
+        "error_icp_mean",
+        "missed",
+    ];
+}
+
+/// A parameter setting and its mean metric over the episodes that used it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BestSetting {
+    /// Mode and parameter values.
+    pub setting: BTreeMap<String, String>,
+    /// Mean of the metric over the setting's episodes (all scenes and seeds).
+    pub value: f64,
+    /// Episodes averaged.
+    pub episodes: usize,
+}
+
+/// The setting (mode + parameters) with the best mean of `metric`.
+pub fn best_setting(
+    rows: &[EpisodeRow],
+    metric: impl Fn(&EpisodeRow) -> f64,
+    larger_is_better: bool,
+) -> Option<BestSetting> {
+    let mut groups: BTreeMap<Vec<(String, String)>, Vec<f64>> = BTreeMap::new();
+    for r in rows {
+        let mut key = vec![("mode".to_string(), r.mode.clone())];
+        key.extend(r.params.iter().cloned());
+        groups.entry(key).or_default().push(metric(r));
+    }
+    groups
+        .into_iter()
+        .map(|(k, v)| BestSetting {
+            setting: k.into_iter().collect(),
+            value: mean(&v),
+            episodes: v.len(),
+        })
+        .reduce(|a, b| {
+            let better = if larger_is_better {
+                b.value > a.value
+            } else {
+                b.value < a.value
+            };
+            if better { b } else { a }
+        })
+}
+
+/// One object's line of the registration table (Table III).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RegistrationLine {
+    /// Object name.
+    pub object: String,
+    /// Registrations (episodes that registered it).
+    pub experiments: usize,
+    /// p-ICP-GPA mean and standard deviation of the alignment error (m).
+    pub gpa: (f64, f64),
+    /// Sequential ICP mean and standard deviation (m).
+    pub icp: (f64, f64),
+    /// p-ICP-GPA failures.
+    pub gpa_failures: usize,
+    /// Sequential-ICP failures.
+    pub icp_failures: usize,
+}
+
+/// Table III over the rows: per object, over every episode that registered it.
+pub fn registration_table(rows: &[EpisodeRow]) -> Vec<RegistrationLine> {
+    let mut by: BTreeMap<String, Vec<&ObjectRegistrationRow>> = BTreeMap::new();
+    for r in rows {
+        for o in &r.registrations {
+            by.entry(o.object.clone()).or_default().push(o);
+        }
+    }
+    by.into_iter()
+        .map(|(object, v)| {
+            let g: Vec<f64> = v.iter().map(|o| o.gpa).collect();
+            let i: Vec<f64> = v.iter().map(|o| o.icp).collect();
+            RegistrationLine {
+                object,
+                experiments: v.len(),
+                gpa: (mean(&g), std_dev(&g)),
+                icp: (mean(&i), std_dev(&i)),
+                gpa_failures: v.iter().filter(|o| o.gpa_failed).count(),
+                icp_failures: v.iter().filter(|o| o.icp_failed).count(),
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(index: usize, alpha: &str, coverage: f64, gpa: f64) -> EpisodeRow {
+        EpisodeRow {
+            index,
+            id: format!("{index:04}-0"),
+            scene: "s".into(),
+            mode: "hybrid".into(),
+            seed: 1,
+            params: vec![("nbv.alpha_u".into(), alpha.into())],
+            objects: 1,
+            missed: 0,
+            views: 2,
+            failed_viewpoints: 0,
+            collisions: 0,
+            coverage,
+            coverage_min: coverage,
+            coverage_mid_range: 0.4,
+            coverage_gain_per_view: (coverage - 0.4) / 2.0,
+            error_gpa: gpa,
+            error_icp: 2.0 * gpa,
+            error_unregistered: gpa,
+            failed_gpa: 0,
+            failed_icp: 1,
+            registrations: vec![ObjectRegistrationRow {
+                object: "jug".into(),
+                gpa,
+                icp: 2.0 * gpa,
+                gpa_failed: false,
+                icp_failed: true,
+            }],
+            time_s: 10.0,
+        }
+    }
+
+    #[test]
+    fn aggregates_best_and_table() {
+        let rows = [
+            row(0, "2.0", 0.8, 0.01),
+            row(1, "2.0", 0.6, 0.02),
+            row(2, "4.0", 0.9, 0.03),
+        ];
+        let a = Aggregate::of(&rows);
+        assert_eq!(a.coverage, 0.6);
+        assert!((a.coverage_mean - 2.3 / 3.0).abs() < 1e-12);
+        assert_eq!(a.error_gpa, 0.03);
+        assert_eq!(a.episodes_per_hour, 360.0);
+        let best = best_setting(&rows, |r| r.coverage, true).unwrap();
+        assert_eq!(best.setting["nbv.alpha_u"], "4.0");
+        let best = best_setting(&rows, |r| r.error_gpa, false).unwrap();
+        assert_eq!(
+            (best.setting["nbv.alpha_u"].as_str(), best.episodes),
+            ("2.0", 2)
+        );
+        let t = registration_table(&rows);
+        assert_eq!(
+            (t[0].experiments, t[0].gpa_failures, t[0].icp_failures),
+            (3, 0, 3)
+        );
+        assert!((t[0].gpa.0 - 0.02).abs() < 1e-12);
+        let csv = csv_text(&rows).unwrap();
+        assert!(csv.starts_with("index,id,scene,mode,seed,nbv.alpha_u,objects,"));
+        assert_eq!(csv.lines().count(), 4);
+        assert!(
+            csv.lines()
+                .all(|l| l.ends_with("time_s") || l.ends_with("10.000"))
+        );
+    }
+}
