@@ -250,7 +250,7 @@ fn run_grid(args: RunArgs) -> Result<ExitCode> {
     for r in results {
         r?;
     }
-    let rows = load_rows(&[out.clone()])?;
+    let rows = load_rows(std::slice::from_ref(out))?;
     finish(out, &grid, &rows, &args.require, args.shard)
 }
 

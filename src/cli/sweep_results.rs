@@ -256,8 +256,7 @@ impl Aggregate {
                 .iter()
                 .copied()
                 .fold(f64::INFINITY, f64::min)
-                .min(1.0)
-                .max(0.0),
+                .clamp(0.0, 1.0),
             coverage_mean: mean(&cov),
             collisions: rows.iter().map(|r| r.collisions).sum(),
             views: rows.iter().map(|r| r.views).sum(),
