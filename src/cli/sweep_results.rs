@@ -252,11 +252,12 @@ impl Aggregate {
         let gpa: Vec<f64> = rows.iter().map(|r| r.error_gpa).collect();
         let time: f64 = rows.iter().map(|r| r.time_s).sum();
         Self {
-            coverage: cov
-                .iter()
-                .copied()
-                .fold(f64::INFINITY, f64::min)
-                .clamp(0.0, 1.0),
+            // No episode covers nothing: a gate on coverage then fails.
+            coverage: if cov.is_empty() {
+                0.0
+            } else {
+                cov.iter().copied().fold(f64::INFINITY, f64::min)
+            },
             coverage_mean: mean(&cov),
             collisions: rows.iter().map(|r| r.collisions).sum(),
             views: rows.iter().map(|r| r.views).sum(),
@@ -430,6 +431,7 @@ mod tests {
         ];
         let a = Aggregate::of(&rows);
         assert_eq!(a.coverage, 0.6);
+        assert_eq!(Aggregate::of(&[]).coverage, 0.0);
         assert!((a.coverage_mean - 2.3 / 3.0).abs() < 1e-12);
         assert_eq!(a.error_gpa, 0.03);
         assert_eq!(a.episodes_per_hour, 360.0);
