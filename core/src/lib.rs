@@ -11,6 +11,7 @@
 //! - the world frame is the robot base frame: x forward, y left, z up, floor at z = 0;
 //! - a pose `T_a_b` maps coordinates in frame `b` to frame `a`.
 
+pub mod atomic_file;
 pub mod cloud;
 pub mod evaluation;
 pub mod kinematics;

@@ -1,6 +1,5 @@
 //! Path helpers: lexical normalisation, relative paths for saving, atomic writes.
 
-use std::io::Write;
 use std::path::{Component, Path, PathBuf};
 
 /// Removes `.` and resolves `..` lexically (no file-system access).
@@ -66,27 +65,4 @@ pub fn relative_to(path: &Path, dir: &Path) -> PathBuf {
     out
 }
 
-/// Writes `bytes` to `path` atomically: a temporary file in the same directory, synced,
-/// then renamed over the destination. On failure the temporary file is removed and the
-/// destination is untouched.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "out".to_owned());
-    let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
-}
+pub use nbv_core::atomic_file::write_atomic;

@@ -8,7 +8,7 @@
 
 use super::TriMesh;
 use nalgebra::Point3;
-use std::io::{Cursor, Write};
+use std::io::Cursor;
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 
@@ -248,31 +248,12 @@ pub fn write_stl_file(mesh: &TriMesh, path: &Path) -> Result<(), MeshIoError> {
     write_atomic(path, &stl_to_bytes(mesh))
 }
 
-/// Writes bytes to `path` atomically: a temporary file beside it, then a rename.
+/// Writes bytes to `path` atomically ([`crate::atomic_file::write_atomic`]).
 fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), MeshIoError> {
-    let io = |source: std::io::Error| MeshIoError::Io {
+    crate::atomic_file::write_atomic(path, bytes).map_err(|source| MeshIoError::Io {
         path: path.to_path_buf(),
         source,
-    };
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "mesh".to_owned());
-    let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
-    let result = (|| {
-        let mut file = std::fs::File::create(&tmp)?;
-        file.write_all(bytes)?;
-        file.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result.map_err(io)
+    })
 }
 
 #[cfg(test)]

@@ -2,10 +2,9 @@
 //! (atomic) and [`OccupancyGrid::read_from`] / [`OccupancyGrid::load`] with typed errors.
 //! The layout is documented in the [`crate::occupancy`] module doc.
 
-use std::fs::{self, File};
-use std::io::{self, BufReader, BufWriter, Read, Write};
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::fs::File;
+use std::io::{self, BufReader, Read, Write};
+use std::path::Path;
 
 use nalgebra::Point3;
 use thiserror::Error;
@@ -109,21 +108,9 @@ impl OccupancyGrid {
     /// Writes the grid to `path` atomically: a temporary file in the same directory,
     /// flushed and synced, then renamed over `path`.
     pub fn save(&self, path: impl AsRef<Path>) -> Result<(), GridFileError> {
-        let path = path.as_ref();
-        let tmp = temp_path(path);
-        let result = (|| -> io::Result<()> {
-            let file = File::create(&tmp)?;
-            let mut w = BufWriter::new(file);
-            self.write_to(&mut w)?;
-            let file = w.into_inner().map_err(|e| e.into_error())?;
-            file.sync_all()?;
-            fs::rename(&tmp, path)
-        })();
-        if result.is_err() {
-            // Best effort: never leave a half-written temporary behind.
-            let _ = fs::remove_file(&tmp);
-        }
-        result.map_err(GridFileError::from)
+        crate::atomic_file::write_atomically(path.as_ref(), |w| {
+            self.write_to(w).map_err(GridFileError::from)
+        })
     }
 
     /// Reads a grid written by [`OccupancyGrid::write_to`]. The whole input must be one
@@ -221,20 +208,10 @@ fn read_full(r: &mut impl Read, buf: &mut [u8]) -> io::Result<usize> {
     Ok(filled)
 }
 
-/// A temporary path next to `path`, unique within this process and across processes.
-fn temp_path(path: &Path) -> PathBuf {
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let name = path
-        .file_name()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "grid".into());
-    path.with_file_name(format!(".{name}.{}.{n}.tmp", std::process::id()))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::fs;
 
     fn sample() -> OccupancyGrid {
         let g = GridGeometry::from_dims(Point3::new(0.3, -0.7, 0.23), 0.02, [5, 4, 3]).unwrap();

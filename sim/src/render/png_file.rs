@@ -1,9 +1,9 @@
-//! [`save_png`]: writes a picture as PNG atomically (temporary file in the destination
-//! directory, then rename), so a reader never sees half a file.
+//! [`save_png`]: writes a picture as PNG atomically
+//! ([`nbv_core::atomic_file`]), so a reader never sees half a file.
 
 use super::RenderError;
 use image::RgbaImage;
-use std::io::{BufWriter, Write};
+use std::io::Cursor;
 use std::path::Path;
 
 /// Writes `image` to `path` as an 8-bit RGBA PNG, atomically.
@@ -18,32 +18,15 @@ use std::path::Path;
 /// ```
 pub fn save_png(image: &RgbaImage, path: impl AsRef<Path>) -> Result<(), RenderError> {
     let path = path.as_ref();
-    let fail = |detail: String| RenderError::Write {
-        path: path.to_path_buf(),
-        detail,
-    };
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let tmp = tempfile::Builder::new()
-        .prefix(".nbv-png-")
-        .suffix(".tmp")
-        .tempfile_in(dir)
-        .map_err(|e| {
-            fail(format!(
-                "cannot create a temporary file in {}: {e}",
-                dir.display()
-            ))
-        })?;
-    {
-        let mut out = BufWriter::new(tmp.as_file());
-        image
-            .write_to(&mut out, image::ImageFormat::Png)
-            .map_err(|e| fail(e.to_string()))?;
-        out.flush().map_err(|e| fail(e.to_string()))?;
-    }
-    tmp.as_file().sync_all().map_err(|e| fail(e.to_string()))?;
-    tmp.persist(path).map_err(|e| fail(e.error.to_string()))?;
-    Ok(())
+    // PNG encoding needs Seek: encode into memory, then write the bytes atomically.
+    let mut bytes = Vec::new();
+    image
+        .write_to(&mut Cursor::new(&mut bytes), image::ImageFormat::Png)
+        .and_then(|()| {
+            nbv_core::atomic_file::write_atomic(path, &bytes).map_err(image::ImageError::IoError)
+        })
+        .map_err(|e| RenderError::Write {
+            path: path.to_path_buf(),
+            detail: e.to_string(),
+        })
 }

@@ -1,5 +1,5 @@
-//! [`write_atomically`]: output files appear whole or not at all (a temporary file in the
-//! target's directory, renamed over the target once it is complete).
+//! [`write_atomically`]: [`crate::atomic_file::write_atomically`] with the cloud I/O's
+//! error type, naming the file.
 
 use std::io::Write;
 use std::path::Path;
@@ -25,28 +25,5 @@ pub fn write_atomically(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> Result<(), CloudIoError>,
 ) -> Result<(), CloudIoError> {
-    let run = || -> Result<(), CloudIoError> {
-        let dir = match path.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p,
-            _ => Path::new("."),
-        };
-        let name = path
-            .file_name()
-            .map_or_else(|| "out".into(), |n| n.to_string_lossy());
-        let prefix = format!(".{name}.");
-        let mut builder = tempfile::Builder::new();
-        builder.prefix(&prefix).suffix(".tmp");
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::PermissionsExt;
-            // Like a plain `File::create` (the umask still applies), not tempfile's 0600.
-            builder.permissions(std::fs::Permissions::from_mode(0o666));
-        }
-        let mut tmp = builder.tempfile_in(dir).map_err(CloudIoError::io)?;
-        write(tmp.as_file_mut())?;
-        tmp.as_file_mut().flush().map_err(CloudIoError::io)?;
-        tmp.persist(path).map_err(|e| CloudIoError::io(e.error))?;
-        Ok(())
-    };
-    run().map_err(|e| e.with_path(path))
+    crate::atomic_file::write_atomically(path, write).map_err(|e| e.with_path(path))
 }
