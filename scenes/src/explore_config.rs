@@ -3,9 +3,7 @@
 //! obstacles (as the planner's obstacles) and the seed into an [`ExploreConfig`].
 
 use crate::error::{Problem, SceneError};
-use crate::placed::obstacle_local_mesh;
 use crate::scene::Scene;
-use nalgebra::{Isometry3, Vector3};
 use nbv_core::kinematics::Joints;
 use nbv_core::pipeline::{ExploreConfig, ExploreMode};
 use nbv_core::planning::{Obstacle, ObstacleShape, PlannerConfig};
@@ -82,24 +80,14 @@ impl Scene {
             (t.max[2] - t.min[2]) / 2.0,
         ];
         obstacles.push(Obstacle::cuboid("table", centre, half));
-        for (i, o) in self.obstacles.iter().enumerate().filter(|(_, o)| o.known) {
-            let local = obstacle_local_mesh(o).map_err(|source| SceneError::Mesh {
-                file: self.file(),
-                key: format!("obstacles[{i}].mesh"),
-                source,
-            })?;
-            let Some((lo, hi)) = local.bounds() else {
-                continue;
-            };
-            // The planner gets the obstacle's box: a link can never end up inside it.
-            let c = nalgebra::center(&lo, &hi);
-            let half: Vector3<f64> = (hi - lo) / 2.0;
+        // The planner gets each known obstacle's box: a link can never end up inside it.
+        for (name, pose, half) in self.known_obstacle_boxes()? {
             obstacles.push(Obstacle {
-                name: o.name.clone(),
+                name,
                 shape: ObstacleShape::Cuboid {
                     half_extents: [half.x, half.y, half.z],
                 },
-                pose: o.pose.to_pose() * Isometry3::translation(c.x, c.y, c.z),
+                pose,
             });
         }
         let planner = PlannerConfig {

@@ -7,6 +7,7 @@ use crate::placed::obstacle_local_mesh;
 use crate::scene::Scene;
 use crate::schema::{Mapping, Segmentation, Workspace};
 use nalgebra::{Isometry3, Point3, Vector3};
+use nbv_core::math::Pose;
 use nbv_core::occupancy::{GridGeometry, OccupancyParams};
 use nbv_core::perception::{OrientedBox, PhaseOneConfig, SegmentationParams};
 
@@ -98,11 +99,28 @@ impl Scene {
                 }),
             })?;
         let margin = self.segmentation.cluster_tolerance;
-        let mut exclude = Vec::new();
-        for (i, o) in self.obstacles.iter().enumerate() {
-            if !o.known {
-                continue;
-            }
+        let exclude = self
+            .known_obstacle_boxes()?
+            .into_iter()
+            .map(|(_, pose, half)| OrientedBox::new(pose, half).inflated(margin))
+            .collect();
+        let (lo, hi) = self.workspace.bounds();
+        Ok(PhaseOneConfig {
+            segmentation: self.segmentation.params(self.seed),
+            grid,
+            occupancy: self.mapping.occupancy_params(),
+            max_range: self.sensors.mid_range.range[1],
+            region: Some(OrientedBox::from_bounds(lo, hi)),
+            exclude,
+        })
+    }
+
+    /// The known obstacles as boxes: name, pose of the box centre (world) and half
+    /// extents — the bounds of each obstacle's mesh in its own frame. Phase 1 excludes
+    /// them from segmentation; the planner avoids them.
+    pub fn known_obstacle_boxes(&self) -> Result<Vec<(String, Pose, Vector3<f64>)>, SceneError> {
+        let mut boxes = Vec::new();
+        for (i, o) in self.obstacles.iter().enumerate().filter(|(_, o)| o.known) {
             let local = obstacle_local_mesh(o).map_err(|source| SceneError::Mesh {
                 file: self.file(),
                 key: format!("obstacles[{i}].mesh"),
@@ -113,17 +131,8 @@ impl Scene {
             };
             let c = nalgebra::center(&lo, &hi);
             let pose = o.pose.to_pose() * Isometry3::translation(c.x, c.y, c.z);
-            let half: Vector3<f64> = (hi - lo) / 2.0;
-            exclude.push(OrientedBox::new(pose, half).inflated(margin));
+            boxes.push((o.name.clone(), pose, (hi - lo) / 2.0));
         }
-        let (lo, hi) = self.workspace.bounds();
-        Ok(PhaseOneConfig {
-            segmentation: self.segmentation.params(self.seed),
-            grid,
-            occupancy: self.mapping.occupancy_params(),
-            max_range: self.sensors.mid_range.range[1],
-            region: Some(OrientedBox::from_bounds(lo, hi)),
-            exclude,
-        })
+        Ok(boxes)
     }
 }
