@@ -1,0 +1,1 @@
+//! SICK LMS400 over Ethernet: CoLa binary framing, the driver and its emulator.
