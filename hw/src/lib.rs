@@ -17,3 +17,13 @@ pub mod comau;
 pub mod dinast;
 #[cfg(feature = "lms400")]
 pub mod lms400;
+
+mod config_error;
+pub use config_error::ConfigError;
+
+#[cfg(feature = "hw")]
+pub mod emulated_rig;
+#[cfg(feature = "hw")]
+pub mod hw_rig;
+#[cfg(feature = "hw")]
+pub mod rig_file;

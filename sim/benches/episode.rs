@@ -5,15 +5,12 @@
 //! files. Also the mid-only baseline. Episodes per hour follow from the time.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use nbv_core::kinematics::Robot;
-use nbv_core::pipeline::{ExploreMode, NoObserver, explore};
+use nbv_core::pipeline::{ExploreMode, NoObserver};
 use nbv_sim::rig::SimRig;
 use std::hint::black_box;
 
 fn episode(c: &mut Criterion) {
     let scene = nbv_scenes::builtin::load("paper-env1").expect("built-in scene");
-    let robot = Robot::from_urdf_file(&scene.robot.urdf).expect("robot");
-    let base = scene.robot.base.to_pose();
     let mut group = c.benchmark_group("episode");
     group.sample_size(10);
     for mode in [ExploreMode::Hybrid, ExploreMode::MidOnly] {
@@ -21,16 +18,7 @@ fn episode(c: &mut Criterion) {
         group.bench_function(format!("paper-env1_{}", mode.name()), |b| {
             b.iter(|| {
                 let mut rig = SimRig::from_scene(&scene).expect("twin");
-                let e = explore(
-                    &robot,
-                    &base,
-                    &mut rig.arm,
-                    &mut rig.scanner,
-                    &mut rig.camera,
-                    &config,
-                    &mut NoObserver,
-                )
-                .expect("episode");
+                let e = rig.explore(&config, &mut NoObserver).expect("episode");
                 black_box(e.objects.len())
             })
         });

@@ -6,8 +6,7 @@ use super::progress::ProgressObserver;
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use nbv_core::cloud::io::{WriteOptions, write_cloud};
-use nbv_core::kinematics::Robot;
-use nbv_core::pipeline::{ExploreMode, explore};
+use nbv_core::pipeline::ExploreMode;
 use nbv_sim::rig::SimRig;
 use std::path::{Path, PathBuf};
 
@@ -46,6 +45,28 @@ pub struct ExploreArgs {
     /// No progress bars.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Which rig runs the pipeline: the twin, or the real drivers (built with `--features
+    /// hw`) talking to the devices a rig file names.
+    #[arg(long, value_enum, default_value_t = Backend::Sim)]
+    pub backend: Backend,
+    /// Rig file for `--backend hw`: device addresses and hand-eye calibration
+    /// (examples/rigs/lab.toml, examples/rigs/emulated.toml).
+    #[arg(long, required_if_eq("backend", "hw"))]
+    pub rig: Option<PathBuf>,
+    /// With `--backend hw`: serve the rig file's devices from wire-level emulators backed
+    /// by the scene's twin (port 0 in an address picks a free port), so the real drivers run
+    /// the whole pipeline without hardware.
+    #[arg(long, requires = "rig")]
+    pub emulate: bool,
+}
+
+/// `--backend`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Backend {
+    /// The digital twin (nbv-sim).
+    Sim,
+    /// The real drivers (nbv-hw): SICK LMS400, Comau C4G, Dinast IPA-1110.
+    Hw,
 }
 
 /// `--mode`.
@@ -75,13 +96,16 @@ pub fn run(args: ExploreArgs) -> Result<()> {
     if let Some(seed) = args.seed {
         scene.seed = seed;
     }
-    let report = run_episode(
-        &scene,
-        args.mode.into(),
-        &args.output,
-        !args.no_pictures,
-        args.quiet,
-    )?;
+    let report = match args.backend {
+        Backend::Sim => run_episode(
+            &scene,
+            args.mode.into(),
+            &args.output,
+            !args.no_pictures,
+            args.quiet,
+        )?,
+        Backend::Hw => run_hw(&scene, &args)?,
+    };
     println!("{}", report.summary());
     Ok(())
 }
@@ -98,25 +122,55 @@ pub fn run_episode(
         bail!("{}: exists and is not a directory", out.display());
     }
     let config = scene.explore_config(mode)?;
-    let robot = Robot::from_urdf_file(&scene.robot.urdf)
-        .with_context(|| format!("robot model {}", scene.robot.urdf.display()))?;
-    let base = scene.robot.base.to_pose();
     let mut rig = SimRig::from_scene(scene).context("building the twin")?;
     let mut observer = ProgressObserver::new(quiet);
-    let exploration = explore(
-        &robot,
-        &base,
-        &mut rig.arm,
-        &mut rig.scanner,
-        &mut rig.camera,
-        &config,
-        &mut observer,
-    )?;
+    let exploration = rig.explore(&config, &mut observer)?;
     observer.finish();
-    let report = evaluate(scene, &config, &exploration)?;
-    write_outputs(out, &exploration, &report)?;
+    finish_episode(scene, &config, &exploration, out, pictures)
+}
+
+#[cfg(feature = "hw")]
+fn run_hw(scene: &nbv_scenes::Scene, args: &ExploreArgs) -> Result<ExploreReport> {
+    let rig = args
+        .rig
+        .as_deref()
+        .context("--backend hw needs --rig FILE")?;
+    if args.output.exists() && !args.output.is_dir() {
+        bail!("{}: exists and is not a directory", args.output.display());
+    }
+    let config = scene.explore_config(args.mode.into())?;
+    let mut observer = ProgressObserver::new(args.quiet);
+    let exploration = super::hw_backend::explore(scene, &config, rig, args.emulate, &mut observer)?;
+    observer.finish();
+    finish_episode(
+        scene,
+        &config,
+        &exploration,
+        &args.output,
+        !args.no_pictures,
+    )
+}
+
+#[cfg(not(feature = "hw"))]
+fn run_hw(_: &nbv_scenes::Scene, _: &ExploreArgs) -> Result<ExploreReport> {
+    bail!(
+        "--backend hw: this nbv was built without the real drivers; build it with `--features hw`"
+    )
+}
+
+/// Evaluates an exploration against the scene's truth and writes the report, the models,
+/// the map and (if asked) the pictures into `out`.
+fn finish_episode(
+    scene: &nbv_scenes::Scene,
+    config: &nbv_core::pipeline::ExploreConfig,
+    exploration: &nbv_core::pipeline::Exploration,
+    out: &Path,
+    pictures: bool,
+) -> Result<ExploreReport> {
+    let report = evaluate(scene, config, exploration)?;
+    write_outputs(out, exploration, &report)?;
     if pictures {
-        super::explore_pictures::write(out, scene, &exploration, &report);
+        super::explore_pictures::write(out, scene, exploration, &report);
     }
     Ok(report)
 }

@@ -2,8 +2,10 @@
 //! measured against the twin's ground truth.
 
 use anyhow::Result;
+use nalgebra::Vector3;
 use nbv_core::evaluation::{alignment_error, point_error, surface_coverage};
 use nbv_core::math::Pose;
+use nbv_core::mesh::TriMesh;
 use nbv_core::pipeline::{Exploration, ExploreConfig, ObjectExploration, ObjectStop, StepTimes};
 use nbv_core::rig::TruthLabel;
 use nbv_scenes::Scene;
@@ -250,7 +252,7 @@ pub fn evaluate(
     let mut matched = vec![false; scene.objects.len()];
     let mut objects = Vec::new();
     for object in &exploration.objects {
-        let truth = true_object(object, scene);
+        let truth = true_object(object, scene, &meshes);
         if let Some(i) = truth {
             matched[i] = true;
         }
@@ -406,9 +408,35 @@ fn stop_text(stop: &ObjectStop) -> String {
 
 /// The scene object most of the cluster's points hit (by the truth labels), if more than
 /// half of them hit that object.
-fn true_object(object: &ObjectExploration, scene: &Scene) -> Option<usize> {
-    true_object_of(&object.cluster, scene)
+/// The scene object an explored object is: by the truth labels of its cluster when the rig
+/// gives them (the twin), else (real drivers, which know no truth) the object whose bounds,
+/// grown by [`BOUNDS_SLACK`], hold the cluster's centroid — the nearest such by centre.
+fn true_object(object: &ObjectExploration, scene: &Scene, meshes: &[TriMesh]) -> Option<usize> {
+    if object.cluster.labels.is_some() {
+        return true_object_of(&object.cluster, scene);
+    }
+    let points = &object.cluster.points;
+    if points.is_empty() {
+        return None;
+    }
+    let centroid = points.iter().fold(Vector3::zeros(), |a, p| a + p.coords) / points.len() as f64;
+    meshes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, mesh)| {
+            let (lo, hi) = mesh.bounds()?;
+            let inside = (0..3).all(|k| {
+                centroid[k] >= lo[k] - BOUNDS_SLACK && centroid[k] <= hi[k] + BOUNDS_SLACK
+            });
+            inside.then(|| (i, (centroid - (lo.coords + hi.coords) * 0.5).norm()))
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(i, _)| i)
 }
+
+/// How far outside an object's bounds a cluster centroid may lie and still be that object
+/// (metres): the centroid of a partial view of a convex object lies inside its bounds.
+const BOUNDS_SLACK: f64 = 0.02;
 
 /// The scene object most of a cluster's points hit in truth (more than half of them).
 pub fn true_object_of(cluster: &nbv_core::cloud::PointCloud, scene: &Scene) -> Option<usize> {

@@ -3,6 +3,8 @@
 pub mod explore;
 pub mod explore_pictures;
 pub mod explore_report;
+#[cfg(feature = "hw")]
+pub mod hw_backend;
 pub mod map;
 pub mod progress;
 pub mod register;

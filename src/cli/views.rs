@@ -6,11 +6,11 @@
 use super::explore_report::true_object_of;
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use nbv_core::kinematics::{IkSolution, Robot};
+use nbv_core::kinematics::IkSolution;
 use nbv_core::math::pose_to_xyz_rpy;
 use nbv_core::nbv::{NextBestView, VisitedViews};
 use nbv_core::occupancy::ReducedMap;
-use nbv_core::pipeline::{ExploreMode, NoObserver, run_phase_one};
+use nbv_core::pipeline::{ExploreMode, NoObserver};
 use nbv_core::planning::{CollisionWorld, MotionPlanner};
 use nbv_core::rig::{Arm, DepthCamera, RigError};
 use nbv_sim::rig::SimRig;
@@ -118,19 +118,9 @@ pub fn run(args: ViewsArgs) -> Result<()> {
 /// Phase 1, then every (selected) object's candidates, planned and checked.
 fn list_views(scene: &nbv_scenes::Scene, args: &ViewsArgs) -> Result<Vec<ObjectViews>> {
     let config = scene.explore_config(ExploreMode::Hybrid)?;
-    let robot = Robot::from_urdf_file(&scene.robot.urdf)
-        .with_context(|| format!("robot model {}", scene.robot.urdf.display()))?;
-    let base = scene.robot.base.to_pose();
     let mut rig = SimRig::from_scene(scene).context("building the twin")?;
-    let (phase, segmentation) = run_phase_one(
-        &robot,
-        &base,
-        &mut rig.arm,
-        &mut rig.scanner,
-        &mut rig.camera,
-        &config,
-        &mut NoObserver,
-    )?;
+    let (phase, segmentation) = rig.phase_one(&config, &mut NoObserver)?;
+    let (robot, _) = rig.robot_and_base();
     let reduced = ReducedMap::from_grid(&phase.grid);
     let nbv = NextBestView::new(config.nbv, rig.camera.spec())?;
     let world = CollisionWorld::new(&robot, &config.obstacles)?.with_reduced_map(&reduced);

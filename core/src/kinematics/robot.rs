@@ -222,6 +222,28 @@ impl Robot {
         Ok(f.offset)
     }
 
+    /// Re-attaches `frame`, a frame rigidly attached to the tip link, at `in_tip`
+    /// (`T_tip_frame`): how a hand-eye calibration replaces the nominal sensor mount of the
+    /// URDF. The frame's collision and visual primitives move with it.
+    ///
+    /// ```
+    /// # use nbv_core::kinematics::{Joints, Robot};
+    /// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+    /// let mut robot = Robot::from_urdf_file(path)?;
+    /// let nominal = robot.frame_in_tip("dinast")?;
+    /// let calibrated = nominal * nalgebra::Isometry3::translation(0.002, 0.0, -0.001);
+    /// robot.set_frame_in_tip("dinast", calibrated)?;
+    /// assert_eq!(robot.frame_in_tip("dinast")?, calibrated);
+    /// assert!(robot.set_frame_in_tip("link_3", calibrated).is_err());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn set_frame_in_tip(&mut self, frame: &str, in_tip: Pose) -> Result<(), IkError> {
+        self.frame_in_tip(frame)?;
+        let index = self.chain.find(frame)?;
+        self.chain.frames[index].offset = in_tip;
+        Ok(())
+    }
+
     /// Collision primitives of all links (poses relative to their link).
     pub fn collision_geometry(&self) -> &[LinkGeometry] {
         &self.chain.collisions

@@ -33,7 +33,13 @@
 
 use super::twin_state::{RigConfig, TwinState, UnknownSensorFrame};
 use crate::world::{SceneWorldError, TwinWorld};
-use nbv_core::kinematics::Joints;
+use nbv_core::kinematics::{Joints, Robot};
+use nbv_core::math::Pose;
+use nbv_core::perception::ObjectSegmentation;
+use nbv_core::pipeline::{
+    Exploration, ExploreConfig, ExploreObserver, PhaseOneReport, PipelineError, explore,
+    run_phase_one,
+};
 use nbv_core::rig::{
     Arm, DepthCamera, DepthCameraSpec, DepthFrame, JointPath, LineScanner, LineScannerSpec, Motion,
     RigError, ScanLine,
@@ -115,6 +121,50 @@ impl SimRig {
     /// across device calls.
     pub fn state(&self) -> Ref<'_, TwinState> {
         self.state.borrow()
+    }
+
+    /// The twin's kinematic model (the scene's URDF, loaded once with the world) and the
+    /// robot base pose: what the pipeline plans with.
+    pub fn robot_and_base(&self) -> (Robot, Pose) {
+        let s = self.state.borrow();
+        (s.world().robot().clone(), *s.world().base())
+    }
+
+    /// The whole method on this rig ([`nbv_core::pipeline::explore`]) with the twin's
+    /// robot model and base.
+    pub fn explore(
+        &mut self,
+        config: &ExploreConfig,
+        observer: &mut dyn ExploreObserver,
+    ) -> Result<Exploration, PipelineError> {
+        let (robot, base) = self.robot_and_base();
+        explore(
+            &robot,
+            &base,
+            &mut self.arm,
+            &mut self.scanner,
+            &mut self.camera,
+            config,
+            observer,
+        )
+    }
+
+    /// Phase 1 only ([`nbv_core::pipeline::run_phase_one`]) on this rig.
+    pub fn phase_one(
+        &mut self,
+        config: &ExploreConfig,
+        observer: &mut dyn ExploreObserver,
+    ) -> Result<(PhaseOneReport, ObjectSegmentation), PipelineError> {
+        let (robot, base) = self.robot_and_base();
+        run_phase_one(
+            &robot,
+            &base,
+            &mut self.arm,
+            &mut self.scanner,
+            &mut self.camera,
+            config,
+            observer,
+        )
     }
 }
 

@@ -1,0 +1,117 @@
+//! [`HwRig`]: the three real drivers of a rig file — the C4G arm, the LMS400 and the
+//! Dinast — connected and configured for the sensors a scene describes. It is the real
+//! counterpart of the twin's `SimRig`: the pipeline takes its three parts unchanged.
+
+use crate::comau::C4gArm;
+use crate::dinast::{
+    ChannelTransport, ControlSetup, DinastCamera, DinastConfig, DinastTransport, TransportError,
+    UsbTransport,
+};
+use crate::lms400::{Lms400Config, Lms400Scanner};
+use crate::rig_file::RigFile;
+use nbv_core::rig::{DepthCameraSpec, LineScannerSpec, RigError};
+use std::time::Duration;
+
+/// How the camera driver reaches its device: libusb, or an emulated device in this process.
+#[derive(Debug)]
+pub enum CameraTransport {
+    /// The IPA-1110 on the USB bus.
+    Usb(UsbTransport),
+    /// An emulated IPA-1110 (see [`crate::emulated_rig`]).
+    Emulated(ChannelTransport),
+}
+
+impl DinastTransport for CameraTransport {
+    fn control_out(
+        &mut self,
+        setup: ControlSetup,
+        data: &[u8],
+        timeout: Duration,
+    ) -> Result<usize, TransportError> {
+        match self {
+            Self::Usb(t) => t.control_out(setup, data, timeout),
+            Self::Emulated(t) => t.control_out(setup, data, timeout),
+        }
+    }
+
+    fn control_in(
+        &mut self,
+        setup: ControlSetup,
+        buf: &mut [u8],
+        timeout: Duration,
+    ) -> Result<usize, TransportError> {
+        match self {
+            Self::Usb(t) => t.control_in(setup, buf, timeout),
+            Self::Emulated(t) => t.control_in(setup, buf, timeout),
+        }
+    }
+
+    fn bulk_read(&mut self, buf: &mut [u8], timeout: Duration) -> Result<usize, TransportError> {
+        match self {
+            Self::Usb(t) => t.bulk_read(buf, timeout),
+            Self::Emulated(t) => t.bulk_read(buf, timeout),
+        }
+    }
+}
+
+/// The real rig's three devices.
+#[derive(Debug)]
+pub struct HwRig {
+    /// The Comau arm.
+    pub arm: C4gArm,
+    /// The mid-range scanner.
+    pub scanner: Lms400Scanner,
+    /// The short-range camera.
+    pub camera: DinastCamera<CameraTransport>,
+}
+
+impl HwRig {
+    /// Connects to the devices `rig` names, the scanner configured for `laser` and the
+    /// camera resampled to `camera`; `camera_transport` is `None` to open the USB device the
+    /// rig file selects.
+    ///
+    /// ```no_run
+    /// use nbv_hw::{hw_rig::HwRig, rig_file::RigFile};
+    /// let scene = nbv_scenes_stub();
+    /// # fn nbv_scenes_stub() -> (nbv_core::rig::LineScannerSpec, nbv_core::rig::DepthCameraSpec) { unimplemented!() }
+    /// let rig = RigFile::load("examples/rigs/lab.toml")?;
+    /// let hw = HwRig::connect(&rig, scene.0, scene.1, None)?;
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn connect(
+        rig: &RigFile,
+        laser: LineScannerSpec,
+        camera: DepthCameraSpec,
+        camera_transport: Option<CameraTransport>,
+    ) -> Result<Self, RigError> {
+        let arm = C4gArm::connect(rig.arm.clone())?;
+        let scanner = Lms400Scanner::connect(Lms400Config {
+            address: rig.laser.address.clone(),
+            spec: laser,
+            timeout: Duration::from_secs_f64(rig.laser.timeout_s),
+            clock_offset_s: rig.laser.clock_offset_s,
+            reconnect_attempts: rig.laser.connect_attempts,
+        })?;
+        let transport =
+            match camera_transport {
+                Some(t) => t,
+                None => CameraTransport::Usb(UsbTransport::open(rig.camera.selection()).map_err(
+                    |e| RigError::Disconnected {
+                        device: "dinast".into(),
+                        detail: e.to_string(),
+                    },
+                )?),
+            };
+        let config = DinastConfig {
+            timeout: Duration::from_secs_f64(rig.camera.timeout_s),
+            clock_offset: rig.camera.clock_offset_s,
+            ..DinastConfig::new(camera)
+        };
+        let camera = DinastCamera::open(transport, config)?;
+        Ok(Self {
+            arm,
+            scanner,
+            camera,
+        })
+    }
+}
