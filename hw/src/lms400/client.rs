@@ -190,9 +190,12 @@ impl Lms400Scanner {
         }
     }
 
-    fn collect_until_stopped(&mut self) -> Result<Vec<MeasurementTelegram>, RigError> {
+    /// Sends the stop and collects telegrams into `telegrams` until its answer.
+    fn collect_until_stopped(
+        &mut self,
+        telegrams: &mut Vec<MeasurementTelegram>,
+    ) -> Result<(), RigError> {
         let link = self.link.as_mut().ok_or_else(not_connected)?;
-        let mut telegrams = std::mem::take(&mut self.held);
         link.send(&Command::StopData)?;
         loop {
             match link.receive()? {
@@ -200,7 +203,7 @@ impl Lms400Scanner {
                 Inbound::Reply(Reply::MethodAck { name }) if name == "mLRstopdata" => {}
                 Inbound::Reply(Reply::MethodAnswer { name, args }) if name == "mLRstopdata" => {
                     return if args == ["0"] {
-                        Ok(telegrams)
+                        Ok(())
                     } else {
                         Err(protocol(format!("mLRstopdata answered {args:?}")))
                     };
@@ -268,22 +271,25 @@ impl LineScanner for Lms400Scanner {
             });
         }
         self.streaming = false;
-        let telegrams = match self.collect_until_stopped() {
-            Ok(telegrams) => telegrams,
-            Err(e) => {
-                self.link = None;
-                return Err(e);
-            }
-        };
+        let mut telegrams = std::mem::take(&mut self.held);
+        let collected = self.collect_until_stopped(&mut telegrams);
+        // Even the telegrams of a failed stop advance the clock unwrapping.
         let range = self.config.spec.range;
-        Ok(telegrams
+        let lines = telegrams
             .iter()
             .map(|telegram| {
                 let micros = self.clock.unwrap(telegram.timestamp_us);
                 let time = micros as f64 * 1e-6 + self.config.clock_offset_s;
                 telegram_to_line(telegram, time, range)
             })
-            .collect())
+            .collect();
+        match collected {
+            Ok(()) => Ok(lines),
+            Err(e) => {
+                self.link = None;
+                Err(e)
+            }
+        }
     }
 }
 
