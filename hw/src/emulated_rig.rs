@@ -50,7 +50,7 @@ pub enum EmulatedRigError {
     /// The backing rig could not be built.
     #[error("emulating the rig: {0}")]
     Backing(String),
-    /// An emulator failed while serving.
+    /// The emulators could not start serving.
     #[error("emulating the rig: {0}")]
     Serve(String),
     /// The emulator thread panicked.
@@ -120,9 +120,11 @@ impl EmulatedRig {
             let mut camera = DinastEmulator::new("IPA-1110 emulated by nbv-twin");
             while !flag.load(Ordering::Relaxed) {
                 let mut busy = arm.poll(backing.arm.as_mut());
-                busy |= laser
-                    .poll(backing.scanner.as_mut())
-                    .map_err(|e| EmulatedRigError::Serve(format!("LMS400: {e}")))?;
+                // The client already got the device's error reply; keep serving.
+                busy |= laser.poll(backing.scanner.as_mut()).unwrap_or_else(|e| {
+                    tracing::warn!("emulated LMS400: {e}");
+                    true
+                });
                 busy |= device_end.poll(&mut camera, backing.camera.as_mut());
                 if !busy {
                     std::thread::sleep(Duration::from_micros(200));

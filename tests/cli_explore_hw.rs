@@ -1,0 +1,111 @@
+//! `nbv explore --backend hw --emulate`: the whole pipeline through the real drivers
+//! (C4G client, LMS400 client, Dinast driver) against wire-level emulators backed by the
+//! twin, on paper-env1 — the same objects explored as with the twin directly. Also the
+//! errors of a bad rig file and of a rig nobody answers.
+#![cfg(feature = "hw")]
+
+mod common;
+
+use common::{nbv, text};
+use serde_json::Value;
+use std::collections::BTreeSet;
+use std::path::Path;
+
+const EMULATED: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/rigs/emulated.toml");
+
+fn explore(out: &Path, extra: &[&str]) -> Value {
+    let mut args = vec![
+        "explore",
+        "--scene",
+        "paper-env1",
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+        "--no-pictures",
+    ];
+    args.extend_from_slice(extra);
+    let run = nbv(&args);
+    assert!(
+        run.status.success(),
+        "{}\n{}",
+        text(&run.stdout),
+        text(&run.stderr)
+    );
+    serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap()
+}
+
+fn explored(report: &Value) -> BTreeSet<String> {
+    report["objects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|o| o["views"].as_array().is_some_and(|v| !v.is_empty()))
+        .map(|o| o["name"].as_str().unwrap().to_owned())
+        .collect()
+}
+
+#[test]
+fn the_real_drivers_explore_paper_env1_like_the_twin() {
+    let dir = tempfile::tempdir().unwrap();
+    let sim = explore(&dir.path().join("sim"), &[]);
+    let hw = explore(
+        &dir.path().join("hw"),
+        &["--backend", "hw", "--rig", EMULATED, "--emulate"],
+    );
+    let (sim_objects, hw_objects) = (explored(&sim), explored(&hw));
+    assert!(sim_objects.len() >= 3, "{sim_objects:?}");
+    assert_eq!(hw_objects, sim_objects);
+    assert_eq!(hw["totals"]["collisions"], 0);
+    // The models went through the wire: every explored object has a model with points.
+    for name in &hw_objects {
+        let model = dir.path().join("hw/objects").join(name).join("model.ply");
+        let cloud = nbv_core::cloud::io::read_cloud(&model).unwrap();
+        assert!(cloud.points.len() > 500, "{name}: {} points", cloud.points.len());
+    }
+}
+
+#[test]
+fn a_bad_rig_file_or_a_silent_rig_fails_clearly_without_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, "[arm]\naddress = \"127.0.0.1\"\n[laser]\naddress = \"127.0.0.1:0\"\n")
+        .unwrap();
+    let out = dir.path().join("run");
+    let run = nbv(&[
+        "explore", "--scene", "paper-env1", "-o", out.to_str().unwrap(), "-q",
+        "--backend", "hw", "--rig", bad.to_str().unwrap(),
+    ]);
+    assert!(!run.status.success());
+    let err = text(&run.stderr);
+    assert!(err.contains("bad.toml: arm.address: `127.0.0.1` is not host:port"), "{err}");
+    assert!(!out.join("report.json").exists());
+
+    // Nobody listens at these ports (bound then released): a clear disconnection.
+    let free = || {
+        let l = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        l.local_addr().unwrap().to_string()
+    };
+    let silent = dir.path().join("silent.toml");
+    std::fs::write(
+        &silent,
+        format!(
+            "[arm]\naddress = \"{}\"\nconnect_attempts = 1\ntimeout_s = 0.5\n[laser]\naddress = \"{}\"\n",
+            free(),
+            free()
+        ),
+    )
+    .unwrap();
+    let run = nbv(&[
+        "explore", "--scene", "paper-env1", "-o", out.to_str().unwrap(), "-q",
+        "--backend", "hw", "--rig", silent.to_str().unwrap(),
+    ]);
+    assert!(!run.status.success());
+    let err = text(&run.stderr);
+    assert!(err.contains("c4g: disconnected"), "{err}");
+    assert!(!out.join("report.json").exists());
+
+    // --backend hw needs a rig file.
+    let run = nbv(&["explore", "--scene", "paper-env1", "-o", out.to_str().unwrap(), "--backend", "hw"]);
+    assert!(!run.status.success());
+    assert!(text(&run.stderr).contains("--rig"), "{}", text(&run.stderr));
+}
