@@ -35,7 +35,7 @@ pub use raw_model::{
     point_from_raw, range_from_raw, range_quantisation_bound, raw_direction, raw_from_range,
     raw_position,
 };
-pub use resample::{FrameSizeError, PinholeResampler, RawEncoder};
+pub use resample::{EDGE_MARGIN_PX, FrameSizeError, PinholeResampler, RawEncoder};
 pub use transport::{ControlSetup, DinastTransport, TransportError, VENDOR_IN, VENDOR_OUT};
 pub use usb::{
     INTERFACE, PRODUCT_ID, UsbOpenError, UsbSelection, UsbSelectionParseError, UsbTransport,

@@ -87,6 +87,22 @@ pub struct RawEncoder {
     sources: Vec<Option<(usize, f64)>>,
 }
 
+/// How far (pinhole pixels) outside the pinhole image a raw pixel's direction may fall and
+/// still take the nearest edge pixel's depth. The driver reads, for each pinhole pixel,
+/// the raw pixel nearest to it, whose direction is within half a raw pixel diagonal
+/// (0.28°) of it; at the corners of an 80° image that is up to 2 pinhole pixels outside
+/// the image. Without this margin the image's border would decode as invalid.
+pub const EDGE_MARGIN_PX: f64 = 2.5;
+
+/// The nearest cell (0-based) of coordinate `c` (0 at the first cell's left edge) among
+/// `count` cells, clamped to the grid within [`EDGE_MARGIN_PX`] of it.
+fn nearest_cell(c: f64, count: usize) -> Option<usize> {
+    let last = count.checked_sub(1)? as f64;
+    let cell = (c - 0.5).round();
+    let inside = (-EDGE_MARGIN_PX..=last + EDGE_MARGIN_PX).contains(&(c - 0.5));
+    (inside && cell.is_finite()).then(|| cell.clamp(0.0, last) as usize)
+}
+
 /// Why a pinhole frame cannot be encoded.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("depth frame is {got_width}×{got_height} with {got_len} depths, spec is {width}×{height}")]
@@ -113,17 +129,16 @@ impl RawEncoder {
                 let direction = raw_direction(x as f64, y as f64);
                 let source = (direction.z > 0.0)
                     .then(|| {
-                        let u = (direction.x / direction.z * focal + 0.5 * spec.width as f64 - 0.5)
-                            .round();
-                        let v = (direction.y / direction.z * focal + 0.5 * spec.height as f64
-                            - 0.5)
-                            .round();
-                        let inside = (0.0..spec.width as f64).contains(&u)
-                            && (0.0..spec.height as f64).contains(&v);
-                        inside.then_some((u as usize, v as usize))
+                        let u = direction.x / direction.z * focal + 0.5 * spec.width as f64;
+                        let v = direction.y / direction.z * focal + 0.5 * spec.height as f64;
+                        let column = nearest_cell(u, spec.width)?;
+                        let row = nearest_cell(v, spec.height)?;
+                        Some((
+                            row * spec.width + column,
+                            spec.pixel_ray(column, row).norm(),
+                        ))
                     })
-                    .flatten()
-                    .map(|(u, v)| (v * spec.width + u, spec.pixel_ray(u, v).norm()));
+                    .flatten();
                 sources.push(source);
             }
         }
@@ -139,7 +154,8 @@ impl RawEncoder {
     }
 
     /// The raw frame the device would send for `frame`: each raw pixel takes the depth of
-    /// its nearest pinhole pixel, as a range along that pixel's ray, encoded with
+    /// its nearest pinhole pixel (edge pixels extended by [`EDGE_MARGIN_PX`]), as a range
+    /// along that pixel's ray, encoded with
     /// [`raw_from_range`] (0 where invalid, outside the pinhole image or not
     /// representable). The amplitude image is synthetic: `255·(0.2 m / range)²`, clamped
     /// to 1..=255, 0 where the depth is 0.
