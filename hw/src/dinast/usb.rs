@@ -294,7 +294,11 @@ mod tests {
     #[test]
     fn opening_without_a_camera_fails_cleanly() {
         // This machine has no IPA-1110: either libusb is unavailable or nothing matches.
-        match UsbTransport::open(UsbSelection::default()) {
+        let opened = UsbTransport::open(UsbSelection::default());
+        if let Err(error) = &opened {
+            eprintln!("open without a camera: {error}");
+        }
+        match opened {
             Ok(transport) => panic!("unexpected IPA-1110 found: {transport:?}"),
             Err(UsbOpenError::NotFound { found, .. }) => assert_eq!(found, 0),
             Err(UsbOpenError::Usb { .. } | UsbOpenError::NoBulkInEndpoint) => {}
