@@ -60,7 +60,11 @@ fn the_real_drivers_explore_paper_env1_like_the_twin() {
     for name in &hw_objects {
         let model = dir.path().join("hw/objects").join(name).join("model.ply");
         let cloud = nbv_core::cloud::io::read_cloud(&model).unwrap();
-        assert!(cloud.points.len() > 500, "{name}: {} points", cloud.points.len());
+        assert!(
+            cloud.points.len() > 500,
+            "{name}: {} points",
+            cloud.points.len()
+        );
     }
 }
 
@@ -68,16 +72,30 @@ fn the_real_drivers_explore_paper_env1_like_the_twin() {
 fn a_bad_rig_file_or_a_silent_rig_fails_clearly_without_output() {
     let dir = tempfile::tempdir().unwrap();
     let bad = dir.path().join("bad.toml");
-    std::fs::write(&bad, "[arm]\naddress = \"127.0.0.1\"\n[laser]\naddress = \"127.0.0.1:0\"\n")
-        .unwrap();
+    std::fs::write(
+        &bad,
+        "[arm]\naddress = \"127.0.0.1\"\n[laser]\naddress = \"127.0.0.1:0\"\n",
+    )
+    .unwrap();
     let out = dir.path().join("run");
     let run = nbv(&[
-        "explore", "--scene", "paper-env1", "-o", out.to_str().unwrap(), "-q",
-        "--backend", "hw", "--rig", bad.to_str().unwrap(),
+        "explore",
+        "--scene",
+        "paper-env1",
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+        "--backend",
+        "hw",
+        "--rig",
+        bad.to_str().unwrap(),
     ]);
     assert!(!run.status.success());
     let err = text(&run.stderr);
-    assert!(err.contains("bad.toml: arm.address: `127.0.0.1` is not host:port"), "{err}");
+    assert!(
+        err.contains("bad.toml: arm.address: `127.0.0.1` is not host:port"),
+        "{err}"
+    );
     assert!(!out.join("report.json").exists());
 
     // Nobody listens at these ports (bound then released): a clear disconnection.
@@ -96,8 +114,16 @@ fn a_bad_rig_file_or_a_silent_rig_fails_clearly_without_output() {
     )
     .unwrap();
     let run = nbv(&[
-        "explore", "--scene", "paper-env1", "-o", out.to_str().unwrap(), "-q",
-        "--backend", "hw", "--rig", silent.to_str().unwrap(),
+        "explore",
+        "--scene",
+        "paper-env1",
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+        "--backend",
+        "hw",
+        "--rig",
+        silent.to_str().unwrap(),
     ]);
     assert!(!run.status.success());
     let err = text(&run.stderr);
@@ -105,7 +131,15 @@ fn a_bad_rig_file_or_a_silent_rig_fails_clearly_without_output() {
     assert!(!out.join("report.json").exists());
 
     // --backend hw needs a rig file.
-    let run = nbv(&["explore", "--scene", "paper-env1", "-o", out.to_str().unwrap(), "--backend", "hw"]);
+    let run = nbv(&[
+        "explore",
+        "--scene",
+        "paper-env1",
+        "-o",
+        out.to_str().unwrap(),
+        "--backend",
+        "hw",
+    ]);
     assert!(!run.status.success());
     assert!(text(&run.stderr).contains("--rig"), "{}", text(&run.stderr));
 }

@@ -93,7 +93,7 @@ impl EmulatedRig {
                 address: address.to_owned(),
                 detail: e.to_string(),
             };
-            let setup = (|| {
+            let setup = (|| -> Result<_, EmulatedRigError> {
                 let arm = C4gEmulator::bind(arm_address.as_str())
                     .map_err(|e| bind("the C4G", &arm_address, e))?;
                 let laser = Lms400Emulator::bind(&laser_address)

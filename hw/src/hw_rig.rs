@@ -13,7 +13,6 @@ use nbv_core::rig::{DepthCameraSpec, LineScannerSpec, RigError};
 use std::time::Duration;
 
 /// How the camera driver reaches its device: libusb, or an emulated device in this process.
-#[derive(Debug)]
 pub enum CameraTransport {
     /// The IPA-1110 on the USB bus.
     Usb(UsbTransport),
@@ -55,7 +54,6 @@ impl DinastTransport for CameraTransport {
 }
 
 /// The real rig's three devices.
-#[derive(Debug)]
 pub struct HwRig {
     /// The Comau arm.
     pub arm: C4gArm,
@@ -71,11 +69,18 @@ impl HwRig {
     /// rig file selects.
     ///
     /// ```no_run
-    /// use nbv_hw::{hw_rig::HwRig, rig_file::RigFile};
-    /// let scene = nbv_scenes_stub();
-    /// # fn nbv_scenes_stub() -> (nbv_core::rig::LineScannerSpec, nbv_core::rig::DepthCameraSpec) { unimplemented!() }
+    /// use nbv_core::rig::DepthCameraSpec;
+    /// use nbv_hw::{hw_rig::HwRig, lms400::Lms400Config, rig_file::RigFile};
     /// let rig = RigFile::load("examples/rigs/lab.toml")?;
-    /// let hw = HwRig::connect(&rig, scene.0, scene.1, None)?;
+    /// let laser = Lms400Config::default().spec; // the paper's LMS400 set-up
+    /// let camera = DepthCameraSpec {
+    ///     frame: "dinast".into(),
+    ///     range: [0.1, 0.8],
+    ///     width: 320,
+    ///     height: 240,
+    ///     hfov: 80f64.to_radians(),
+    /// };
+    /// let hw = HwRig::connect(&rig, laser, camera, None)?;
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn connect(
