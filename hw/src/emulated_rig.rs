@@ -14,6 +14,7 @@ use crate::dinast::{ChannelTransport, DinastEmulator, channel_transport};
 use crate::hw_rig::CameraTransport;
 use crate::lms400::Lms400Emulator;
 use crate::rig_file::RigFile;
+use nbv_core::kinematics::Robot;
 use nbv_core::rig::{Arm, DepthCamera, LineScanner};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -29,6 +30,8 @@ pub struct BackingRig {
     pub scanner: Box<dyn LineScanner>,
     /// Answers the Dinast's frames.
     pub camera: Box<dyn DepthCamera>,
+    /// The controller's own kinematic model, for `POS` (the flange frame `tool0`).
+    pub controller_model: Option<Robot>,
 }
 
 /// Builds the backing devices inside the emulator thread.
@@ -94,11 +97,14 @@ impl EmulatedRig {
                 detail: e.to_string(),
             };
             let setup = (|| -> Result<_, EmulatedRigError> {
-                let arm = C4gEmulator::bind(arm_address.as_str())
+                let mut arm = C4gEmulator::bind(arm_address.as_str())
                     .map_err(|e| bind("the C4G", &arm_address, e))?;
                 let laser = Lms400Emulator::bind(&laser_address)
                     .map_err(|e| bind("the LMS400", &laser_address, e))?;
-                let backing = factory().map_err(EmulatedRigError::Backing)?;
+                let mut backing = factory().map_err(EmulatedRigError::Backing)?;
+                if let Some(robot) = backing.controller_model.take() {
+                    arm = arm.with_kinematics(robot, "tool0");
+                }
                 let addresses = (
                     arm.local_addr()
                         .map_err(|e| bind("the C4G", &arm_address, e))?,

@@ -2,7 +2,7 @@
 //! joint mapping, and every injected fault ending in a clear error without a hang.
 #![cfg(feature = "comau")]
 
-use nbv_core::kinematics::Joints;
+use nbv_core::kinematics::{Joints, Robot};
 use nbv_core::rig::{Arm, JointPath, Motion, RigError, TimedJoints};
 use nbv_hw::comau::{C4gArm, C4gConfig, C4gEmulator, C4gEmulatorStats, C4gFaults};
 use std::sync::Arc;
@@ -69,11 +69,18 @@ struct Harness {
 
 impl Harness {
     fn start(q: Joints, faults: C4gFaults) -> Self {
+        Self::start_with(q, faults, None)
+    }
+
+    fn start_with(q: Joints, faults: C4gFaults, kinematics: Option<Robot>) -> Self {
         let stop = Arc::new(AtomicBool::new(false));
         let (tx, rx) = mpsc::channel();
         let flag = stop.clone();
         let thread = std::thread::spawn(move || {
             let mut emulator = C4gEmulator::bind("127.0.0.1:0").unwrap();
+            if let Some(robot) = kinematics {
+                emulator = emulator.with_kinematics(robot, "tool0");
+            }
             emulator.set_faults(faults);
             tx.send(emulator.local_addr().unwrap().to_string()).unwrap();
             let mut arm = LinearArm {
@@ -143,6 +150,31 @@ fn joints_and_a_path_cross_the_wire() {
     let (stats, fractions) = h.finish();
     assert_eq!(stats.motions, 2);
     assert_eq!(fractions, vec![0.25, 0.25]);
+}
+
+#[test]
+fn the_controller_pose_is_the_flange_by_forward_kinematics() {
+    let urdf = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../assets/urdf/comau_smart_six.urdf"
+    );
+    let robot = Robot::from_urdf_file(urdf).unwrap();
+    let at = q([0.3, 0.2, -1.3, 0.4, 0.7, -0.2]);
+    let expected = robot.fk(&at, "tool0").unwrap();
+    let h = Harness::start_with(at, C4gFaults::default(), Some(robot));
+    let mut arm = C4gArm::connect(h.config(2.0)).unwrap();
+    let pose = arm.reported_pose().unwrap();
+    assert!((pose.translation.vector - expected.translation.vector).norm() < 1e-6);
+    assert!(pose.rotation.angle_to(&expected.rotation) < 1e-5);
+    drop(arm);
+    // Without kinematics the emulator refuses, as a clear error.
+    let h2 = Harness::start(at, C4gFaults::default());
+    let mut arm = C4gArm::connect(h2.config(2.0)).unwrap();
+    let err = arm.reported_pose().unwrap_err();
+    assert!(err.to_string().contains("with_kinematics"), "{err}");
+    drop(arm);
+    h.finish();
+    h2.finish();
 }
 
 #[test]

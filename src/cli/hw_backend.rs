@@ -32,10 +32,12 @@ pub fn explore(
         let twin_scene = scene.clone();
         let factory = Box::new(move || {
             let rig = SimRig::from_scene(&twin_scene).map_err(|e| e.to_string())?;
+            let (controller_model, _) = rig.robot_and_base();
             Ok(BackingRig {
                 arm: Box::new(rig.arm),
                 scanner: Box::new(rig.scanner),
                 camera: Box::new(rig.camera),
+                controller_model: Some(controller_model),
             })
         });
         Some(EmulatedRig::start(&rig_file, factory)?)

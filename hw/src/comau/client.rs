@@ -13,9 +13,10 @@
 //! client goes), and the next call reconnects.
 
 use super::line_stream::LineStream;
-use super::protocol::{Command, ErrorCode, PROTOCOL_VERSION, Reply};
+use super::protocol::{Command, ErrorCode, PROTOCOL_VERSION, Reply, pose_from_xyzaer};
 use crate::config_error::{ConfigError, check_address, check_timeout};
 use nbv_core::kinematics::Joints;
+use nbv_core::math::Pose;
 use nbv_core::rig::{Arm, JointPath, Motion, RigError, TimedJoints};
 use serde::Deserialize;
 use std::net::{TcpStream, ToSocketAddrs};
@@ -244,17 +245,20 @@ impl C4gArm {
         })
     }
 
-    /// Reads the flange pose as the controller reports it: `[x, y, z]` mm and Comau
-    /// `[a, e, r]` (ZYZ Euler) degrees.
-    pub fn reported_pose(&mut self) -> Result<[f64; 6], RigError> {
+    /// Reads the flange pose as the controller computes it (its own kinematic model), in
+    /// the controller's base frame.
+    pub fn reported_pose(&mut self) -> Result<Pose, RigError> {
         let words = self.request_ok(Command::Pose)?;
         let values: Vec<f64> = words
             .iter()
             .skip(1)
             .filter_map(|w| w.parse().ok())
             .collect();
-        <[f64; 6]>::try_from(values.as_slice())
-            .map_err(|_| protocol(format!("`POS` answered `OK {}`", words.join(" "))))
+        let v = <[f64; 6]>::try_from(values.as_slice())
+            .ok()
+            .filter(|v| v.iter().all(|x| x.is_finite()))
+            .ok_or_else(|| protocol(format!("`POS` answered `OK {}`", words.join(" "))))?;
+        Ok(pose_from_xyzaer(&v))
     }
 
     /// Cancels any motion in progress.

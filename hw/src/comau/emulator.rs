@@ -13,8 +13,9 @@
 //! [`C4gFaults`] injects the failures the client must survive: a connection dropped
 //! mid-motion, a controller that stops answering, garbage, slow replies.
 
-use super::protocol::{Command, ErrorCode, MAX_LINE, PROTOCOL_VERSION, Reply};
+use super::protocol::{Command, ErrorCode, MAX_LINE, PROTOCOL_VERSION, Reply, xyzaer_from_pose};
 use nbv_core::kinematics::Joints;
+use nbv_core::kinematics::Robot;
 use nbv_core::rig::{Arm, JointPath, RigError};
 use std::collections::VecDeque;
 use std::io::{self, ErrorKind, Read, Write};
@@ -72,6 +73,7 @@ pub struct C4gEmulator {
     clock_s: f64,
     faults: C4gFaults,
     stats: C4gEmulatorStats,
+    kinematics: Option<(Robot, String)>,
 }
 
 impl C4gEmulator {
@@ -86,7 +88,15 @@ impl C4gEmulator {
             clock_s: 0.0,
             faults: C4gFaults::default(),
             stats: C4gEmulatorStats::default(),
+            kinematics: None,
         })
+    }
+
+    /// Answers `POS` with the pose of `flange` by `robot`'s forward kinematics, as the
+    /// controller does with its own model (without it, `POS` is refused).
+    pub fn with_kinematics(mut self, robot: Robot, flange: impl Into<String>) -> Self {
+        self.kinematics = Some((robot, flange.into()));
+        self
     }
 
     /// The address it listens on.
@@ -227,13 +237,26 @@ impl C4gEmulator {
                 }
                 Err(e) => self.queue(client, &Reply::Err(ErrorCode::Alarm, e.to_string())),
             },
-            Command::Pose => self.queue(
-                client,
-                &Reply::Err(
-                    ErrorCode::BadCommand,
-                    "POS is not emulated (the backing arm has no controller kinematics)".into(),
-                ),
-            ),
+            Command::Pose => {
+                let pose = match (&self.kinematics, arm.joints()) {
+                    (Some((robot, flange)), Ok(q)) => {
+                        robot.fk(&q, flange).map_err(|e| e.to_string())
+                    }
+                    (None, _) => Err(
+                        "POS needs the controller's kinematics (C4gEmulator::with_kinematics)"
+                            .into(),
+                    ),
+                    (_, Err(e)) => Err(e.to_string()),
+                };
+                match pose {
+                    Ok(pose) => {
+                        let mut words = vec![format!("{:.0}", self.clock_s * 1000.0)];
+                        words.extend(xyzaer_from_pose(&pose).iter().map(|v| format!("{v:.4}")));
+                        self.queue(client, &Reply::Ok(words));
+                    }
+                    Err(e) => self.queue(client, &Reply::Err(ErrorCode::Alarm, e)),
+                }
+            }
             Command::Stop => self.queue(client, &Reply::Ok(Vec::new())),
             Command::Bye => {
                 self.queue(client, &Reply::Ok(Vec::new()));

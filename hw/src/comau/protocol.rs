@@ -19,6 +19,8 @@
 //! the rig's time base. Lines end with `\n` (a preceding `\r` is ignored) and are at most
 //! [`MAX_LINE`] bytes. The server stops the arm when its client's connection is lost.
 
+use nalgebra::{Rotation3, Translation3, UnitQuaternion, Vector3};
+use nbv_core::math::Pose;
 use std::fmt;
 
 /// Protocol version spoken by this client and by `nbv_server.pdl`.
@@ -281,6 +283,48 @@ impl Reply {
     }
 }
 
+/// A pose as the controller writes it: `[x, y, z]` in millimetres and Comau's `[a, e, r]`
+/// in degrees, Euler angles about z, then the new y, then the new z (R = Rz(a)·Ry(e)·Rz(r)).
+/// At e = 0 or 180° only a ± r is defined: a is reported as 0.
+///
+/// ```
+/// use nbv_hw::comau::protocol::{pose_from_xyzaer, xyzaer_from_pose};
+/// let v = [800.0, -50.0, 1170.0, 30.0, 90.0, -45.0];
+/// let back = xyzaer_from_pose(&pose_from_xyzaer(&v));
+/// assert!(v.iter().zip(&back).all(|(a, b)| (a - b).abs() < 1e-9));
+/// ```
+pub fn xyzaer_from_pose(pose: &Pose) -> [f64; 6] {
+    let t = pose.translation.vector * 1000.0;
+    let m = pose.rotation.to_rotation_matrix().into_inner();
+    let e = m[(0, 2)].hypot(m[(1, 2)]).atan2(m[(2, 2)]);
+    let (a, r) = if e.sin().abs() > 1e-9 {
+        (m[(1, 2)].atan2(m[(0, 2)]), m[(2, 1)].atan2(-m[(2, 0)]))
+    } else if m[(2, 2)] > 0.0 {
+        (0.0, m[(1, 0)].atan2(m[(0, 0)]))
+    } else {
+        (0.0, m[(1, 0)].atan2(m[(1, 1)]))
+    };
+    [
+        t.x,
+        t.y,
+        t.z,
+        a.to_degrees(),
+        e.to_degrees(),
+        r.to_degrees(),
+    ]
+}
+
+/// The pose of `[x, y, z]` mm and Comau `[a, e, r]` degrees (see [`xyzaer_from_pose`]).
+pub fn pose_from_xyzaer(v: &[f64; 6]) -> Pose {
+    let z = |deg: f64| Rotation3::from_axis_angle(&Vector3::z_axis(), deg.to_radians());
+    let y = Rotation3::from_axis_angle(&Vector3::y_axis(), v[4].to_radians());
+    let rotation = z(v[3]) * y * z(v[5]);
+    Pose::from_parts(
+        Translation3::new(v[0] / 1000.0, v[1] / 1000.0, v[2] / 1000.0),
+        UnitQuaternion::from_rotation_matrix(&rotation),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -301,6 +345,20 @@ mod tests {
         fn sample_round_trips(t in 0u32..u32::MAX, q in proptest::array::uniform6(angle())) {
             let r = Reply::Sample(f64::from(t), q);
             prop_assert_eq!(Reply::parse(&r.to_string()).unwrap(), r);
+        }
+
+        #[test]
+        fn comau_euler_round_trips(
+            a in -3.1f64..3.1, e in -1.5f64..1.5, r in -3.1f64..3.1,
+            x in -2.0f64..2.0, y in -2.0f64..2.0, z in 0.0f64..2.0,
+        ) {
+            let pose = Pose::from_parts(
+                Translation3::new(x, y, z),
+                UnitQuaternion::from_euler_angles(a, e, r),
+            );
+            let back = pose_from_xyzaer(&xyzaer_from_pose(&pose));
+            prop_assert!((back.translation.vector - pose.translation.vector).norm() < 1e-9);
+            prop_assert!(back.rotation.angle_to(&pose.rotation) < 1e-9);
         }
 
         #[test]
