@@ -55,13 +55,7 @@ fn lms400(c: &mut Criterion) {
 }
 
 fn dinast(c: &mut Criterion) {
-    let spec = DepthCameraSpec {
-        frame: "dinast".into(),
-        range: [0.1, 0.8],
-        width: 320,
-        height: 240,
-        hfov: 80f64.to_radians(),
-    };
+    let spec = DepthCameraSpec::ipa1110();
     // A tilted plane 0.3–0.6 m away.
     let depth = (0..spec.height)
         .flat_map(|v| (0..spec.width).map(move |u| 0.3 + 0.3 * (u + v) as f32 / 560.0))

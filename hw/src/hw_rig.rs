@@ -73,13 +73,7 @@ impl HwRig {
     /// use nbv_hw::{hw_rig::HwRig, lms400::Lms400Config, rig_file::RigFile};
     /// let rig = RigFile::load("examples/rigs/lab.toml")?;
     /// let laser = Lms400Config::default().spec; // the paper's LMS400 set-up
-    /// let camera = DepthCameraSpec {
-    ///     frame: "dinast".into(),
-    ///     range: [0.1, 0.8],
-    ///     width: 320,
-    ///     height: 240,
-    ///     hfov: 80f64.to_radians(),
-    /// };
+    /// let camera = DepthCameraSpec::ipa1110();
     /// let hw = HwRig::connect(&rig, laser, camera, None)?;
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```

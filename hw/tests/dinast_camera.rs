@@ -32,13 +32,7 @@ fn resampling_angle(spec: &DepthCameraSpec) -> f64 {
 }
 
 fn spec() -> DepthCameraSpec {
-    DepthCameraSpec {
-        frame: "dinast".into(),
-        range: [0.1, 0.8],
-        width: 320,
-        height: 240,
-        hfov: 80f64.to_radians(),
-    }
+    DepthCameraSpec::ipa1110()
 }
 
 /// A fake camera that sees the plane `normal · X = offset` (sensor frame), NaN where the

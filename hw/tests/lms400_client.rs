@@ -22,13 +22,7 @@ const LINE_PERIOD: f64 = 1.0 / 190.0;
 const CLOCK_OFFSET: f64 = 2.5;
 
 fn spec() -> LineScannerSpec {
-    LineScannerSpec {
-        frame: "lms400".into(),
-        range: [0.7, 3.0],
-        fov: 70f64.to_radians(),
-        resolution: 0.25f64.to_radians(),
-        line_rate_hz: 190.0,
-    }
+    LineScannerSpec::lms400()
 }
 
 /// Line `k` of the fake scanner's endless stream.

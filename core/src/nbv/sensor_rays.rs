@@ -17,10 +17,7 @@ use crate::rig::DepthCameraSpec;
 /// ```
 /// use nbv_core::nbv::SensorRays;
 /// use nbv_core::rig::DepthCameraSpec;
-/// let spec = DepthCameraSpec {
-///     frame: "dinast".into(), range: [0.1, 0.8], width: 320, height: 240,
-///     hfov: 80f64.to_radians(),
-/// };
+/// let spec = DepthCameraSpec::ipa1110();
 /// let rays = SensorRays::from_camera(&spec, 8)?;
 /// assert_eq!(rays.directions.len(), 1200);
 /// assert_eq!(rays.range, [0.1, 0.8]);
@@ -107,13 +104,7 @@ mod tests {
     use super::*;
 
     fn dinast() -> DepthCameraSpec {
-        DepthCameraSpec {
-            frame: "dinast".into(),
-            range: [0.1, 0.8],
-            width: 320,
-            height: 240,
-            hfov: 80f64.to_radians(),
-        }
+        DepthCameraSpec::ipa1110()
     }
 
     #[test]

@@ -136,10 +136,7 @@ impl ViewpointList {
 /// use nalgebra::Point3;
 /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
 /// let robot = Robot::from_urdf_file(path)?;
-/// let camera = DepthCameraSpec {
-///     frame: "dinast".into(), range: [0.1, 0.8], width: 320, height: 240,
-///     hfov: 80f64.to_radians(),
-/// };
+/// let camera = DepthCameraSpec::ipa1110();
 /// let nbv = NextBestView::new(NbvParams::default(), &camera)?;
 /// // A grid where one voxel is occupied, the rest seen empty.
 /// let g = GridGeometry::new(Point3::new(0.5, -0.3, 0.2), Point3::new(1.1, 0.3, 0.6), 0.02)?;
@@ -436,13 +433,7 @@ mod tests {
 
     #[test]
     fn invalid_parameters() {
-        let camera = DepthCameraSpec {
-            frame: "dinast".into(),
-            range: [0.1, 0.8],
-            width: 320,
-            height: 240,
-            hfov: 80f64.to_radians(),
-        };
+        let camera = DepthCameraSpec::ipa1110();
         let d = NbvParams::default();
         for bad in [
             NbvParams {

@@ -23,6 +23,23 @@ pub struct DepthCameraSpec {
 }
 
 impl DepthCameraSpec {
+    /// The Dinast IPA-1110 as the paper uses it: 320×240 pixels, 80° horizontal field of
+    /// view, returns from 0.1 to 0.8 m, URDF frame `dinast`.
+    ///
+    /// ```
+    /// let spec = nbv_core::rig::DepthCameraSpec::ipa1110();
+    /// assert!((spec.focal() - 160.0 / 40f64.to_radians().tan()).abs() < 1e-12);
+    /// ```
+    pub fn ipa1110() -> Self {
+        Self {
+            frame: "dinast".into(),
+            range: [0.1, 0.8],
+            width: 320,
+            height: 240,
+            hfov: 80f64.to_radians(),
+        }
+    }
+
     /// Focal length in pixels (square pixels, principal point at the image centre).
     pub fn focal(&self) -> f64 {
         0.5 * self.width as f64 / (0.5 * self.hfov).tan()

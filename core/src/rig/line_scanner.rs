@@ -23,6 +23,22 @@ pub struct LineScannerSpec {
 }
 
 impl LineScannerSpec {
+    /// The SICK LMS400 as the paper uses it: a 70° fan at 0.25° (281 beams), 190 lines per
+    /// second, returns from 0.7 to 3.0 m, URDF frame `lms400`.
+    ///
+    /// ```
+    /// assert_eq!(nbv_core::rig::LineScannerSpec::lms400().beams(), 281);
+    /// ```
+    pub fn lms400() -> Self {
+        Self {
+            frame: "lms400".into(),
+            range: [0.7, 3.0],
+            fov: 70f64.to_radians(),
+            resolution: 0.25f64.to_radians(),
+            line_rate_hz: 190.0,
+        }
+    }
+
     /// Number of beams per line.
     pub fn beams(&self) -> usize {
         (self.fov / self.resolution).round() as usize + 1

@@ -346,11 +346,9 @@ mod tests {
     #[test]
     fn depth_frames_unproject_along_pixel_rays() {
         let spec = DepthCameraSpec {
-            frame: "dinast".into(),
-            range: [0.1, 0.8],
             width: 4,
             height: 3,
-            hfov: 80f64.to_radians(),
+            ..DepthCameraSpec::ipa1110()
         };
         let mut depth = vec![f32::NAN; 12];
         depth[5] = 0.4; // (u, v) = (1, 1)

@@ -152,13 +152,7 @@ pub fn robot() -> Robot {
 
 /// The Dinast IPA-1110 as the paper gives it.
 pub fn dinast() -> DepthCameraSpec {
-    DepthCameraSpec {
-        frame: "dinast".into(),
-        range: [0.1, 0.8],
-        width: 320,
-        height: 240,
-        hfov: 80f64.to_radians(),
-    }
+    DepthCameraSpec::ipa1110()
 }
 
 /// The table and the wall as known obstacles.

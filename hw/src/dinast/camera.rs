@@ -41,13 +41,7 @@ impl DinastConfig {
     ///
     /// ```
     /// use nbv_core::rig::DepthCameraSpec;
-    /// let spec = DepthCameraSpec {
-    ///     frame: "dinast".into(),
-    ///     range: [0.1, 0.8],
-    ///     width: 320,
-    ///     height: 240,
-    ///     hfov: 80f64.to_radians(),
-    /// };
+    /// let spec = DepthCameraSpec::ipa1110();
     /// let config = nbv_hw::dinast::DinastConfig::new(spec);
     /// assert_eq!(config.max_reads_per_frame, 4);
     /// ```
@@ -102,10 +96,7 @@ impl<T: DinastTransport> DinastCamera<T> {
     ///     }
     /// }
     ///
-    /// let spec = DepthCameraSpec {
-    ///     frame: "dinast".into(), range: [0.1, 0.8], width: 320, height: 240,
-    ///     hfov: 80f64.to_radians(),
-    /// };
+    /// let spec = DepthCameraSpec::ipa1110();
     /// let device = DinastEmulator::new("IPA-1110 v2");
     /// let transport = EmulatedTransport::new(device, Box::new(Wall(spec.clone())));
     /// let mut camera = DinastCamera::open(transport, DinastConfig::new(spec))?;

@@ -258,11 +258,9 @@ mod tests {
 
     fn wall() -> Wall {
         Wall(DepthCameraSpec {
-            frame: "dinast".into(),
-            range: [0.1, 0.8],
             width: 64,
             height: 48,
-            hfov: 80f64.to_radians(),
+            ..DepthCameraSpec::ipa1110()
         })
     }
 

@@ -198,13 +198,7 @@ mod tests {
     use super::*;
 
     fn spec() -> DepthCameraSpec {
-        DepthCameraSpec {
-            frame: "dinast".into(),
-            range: [0.1, 0.8],
-            width: 320,
-            height: 240,
-            hfov: 80f64.to_radians(),
-        }
+        DepthCameraSpec::ipa1110()
     }
 
     #[test]

@@ -35,13 +35,7 @@ impl Default for Lms400Config {
     fn default() -> Self {
         Self {
             address: "192.168.0.1:2111".into(),
-            spec: LineScannerSpec {
-                frame: "lms400".into(),
-                range: [0.7, 3.0],
-                fov: 70f64.to_radians(),
-                resolution: 0.25f64.to_radians(),
-                line_rate_hz: 190.0,
-            },
+            spec: LineScannerSpec::lms400(),
             timeout: Duration::from_secs(2),
             clock_offset_s: 0.0,
             reconnect_attempts: 3,

@@ -71,13 +71,7 @@ impl ScanConfig {
     /// ```
     /// use nbv_core::rig::LineScannerSpec;
     /// use nbv_hw::lms400::ScanConfig;
-    /// let spec = LineScannerSpec {
-    ///     frame: "lms400".into(),
-    ///     range: [0.7, 3.0],
-    ///     fov: 70f64.to_radians(),
-    ///     resolution: 0.25f64.to_radians(),
-    ///     line_rate_hz: 190.0,
-    /// };
+    /// let spec = LineScannerSpec::lms400();
     /// let config = ScanConfig::from_spec(&spec).unwrap();
     /// assert_eq!(config.to_args(), "+190.00 +0.25 +55.00 +70.00");
     /// ```
