@@ -321,6 +321,15 @@ impl C4gArm {
     }
 }
 
+impl Drop for C4gArm {
+    /// Says goodbye, so the server closes the session at once (best effort).
+    fn drop(&mut self) {
+        if let Some(link) = self.link.as_mut() {
+            let _ = link.send(&Command::Bye.to_string(), Duration::from_millis(200));
+        }
+    }
+}
+
 impl Arm for C4gArm {
     fn joints(&mut self) -> Result<Joints, RigError> {
         Ok(self.timed_joints()?.joints)
