@@ -68,16 +68,9 @@ fn the_real_drivers_explore_paper_env1_like_the_twin() {
     }
 }
 
-#[test]
-fn a_bad_rig_file_or_a_silent_rig_fails_clearly_without_output() {
-    let dir = tempfile::tempdir().unwrap();
-    let bad = dir.path().join("bad.toml");
-    std::fs::write(
-        &bad,
-        "[arm]\naddress = \"127.0.0.1\"\n[laser]\naddress = \"127.0.0.1:0\"\n",
-    )
-    .unwrap();
-    let out = dir.path().join("run");
+/// `nbv explore --backend hw --rig RIG` on paper-env1 into `out`, expected to fail before
+/// writing anything; its stderr.
+fn failing_hw_run(rig: &Path, out: &Path) -> String {
     let run = nbv(&[
         "explore",
         "--scene",
@@ -88,15 +81,28 @@ fn a_bad_rig_file_or_a_silent_rig_fails_clearly_without_output() {
         "--backend",
         "hw",
         "--rig",
-        bad.to_str().unwrap(),
+        rig.to_str().unwrap(),
     ]);
     assert!(!run.status.success());
-    let err = text(&run.stderr);
+    assert!(!out.join("report.json").exists());
+    text(&run.stderr)
+}
+
+#[test]
+fn a_bad_rig_file_or_a_silent_rig_fails_clearly_without_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(
+        &bad,
+        "[arm]\naddress = \"127.0.0.1\"\n[laser]\naddress = \"127.0.0.1:0\"\n",
+    )
+    .unwrap();
+    let err = failing_hw_run(&bad, &out);
     assert!(
         err.contains("bad.toml: arm.address: `127.0.0.1` is not host:port"),
         "{err}"
     );
-    assert!(!out.join("report.json").exists());
 
     // Nobody listens at these ports (bound then released): a clear disconnection.
     let free = || {
@@ -113,22 +119,8 @@ fn a_bad_rig_file_or_a_silent_rig_fails_clearly_without_output() {
         ),
     )
     .unwrap();
-    let run = nbv(&[
-        "explore",
-        "--scene",
-        "paper-env1",
-        "-o",
-        out.to_str().unwrap(),
-        "-q",
-        "--backend",
-        "hw",
-        "--rig",
-        silent.to_str().unwrap(),
-    ]);
-    assert!(!run.status.success());
-    let err = text(&run.stderr);
+    let err = failing_hw_run(&silent, &out);
     assert!(err.contains("c4g: disconnected"), "{err}");
-    assert!(!out.join("report.json").exists());
 
     // --backend hw needs a rig file.
     let run = nbv(&[
