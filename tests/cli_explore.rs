@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{nbv, text};
+use common::{nbv, text, without_times};
 use nbv_core::cloud::io::read_cloud;
 use serde_json::Value;
 use std::path::Path;
@@ -43,20 +43,6 @@ fn explore(scene: &str, out: &Path, extra: &[&str]) -> Value {
         text(&run.stderr)
     );
     serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap()
-}
-
-/// The report without its timings (everything else is deterministic).
-fn without_times(v: &Value) -> Value {
-    match v {
-        Value::Object(m) => Value::Object(
-            m.iter()
-                .filter(|(k, _)| k.as_str() != "times")
-                .map(|(k, v)| (k.clone(), without_times(v)))
-                .collect(),
-        ),
-        Value::Array(a) => Value::Array(a.iter().map(without_times).collect()),
-        other => other.clone(),
-    }
 }
 
 fn f(v: &Value) -> f64 {

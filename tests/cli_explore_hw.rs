@@ -1,12 +1,13 @@
 //! `nbv explore --backend hw --emulate`: the whole pipeline through the real drivers
 //! (C4G client, LMS400 client, Dinast driver) against wire-level emulators backed by the
-//! twin, on paper-env1 — the same objects explored as with the twin directly. Also the
+//! twin, on paper-env1 — the same objects explored as with the twin directly, and the same
+//! report on a second run (apart from the times). Also the
 //! errors of a bad rig file and of a rig nobody answers.
 #![cfg(feature = "hw")]
 
 mod common;
 
-use common::{nbv, text};
+use common::{nbv, text, without_times};
 use serde_json::Value;
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -52,6 +53,12 @@ fn the_real_drivers_explore_paper_env1_like_the_twin() {
         &dir.path().join("hw"),
         &["--backend", "hw", "--rig", EMULATED, "--emulate"],
     );
+    // Same scene and seed, same report through the wire too (apart from the times).
+    let again = explore(
+        &dir.path().join("hw-again"),
+        &["--backend", "hw", "--rig", EMULATED, "--emulate"],
+    );
+    assert_eq!(without_times(&again), without_times(&hw));
     let (sim_objects, hw_objects) = (explored(&sim), explored(&hw));
     assert!(sim_objects.len() >= 3, "{sim_objects:?}");
     assert_eq!(hw_objects, sim_objects);

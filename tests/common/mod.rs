@@ -1,6 +1,7 @@
 //! A synthetic mid-range sweep shared by the CLI tests: a table top at z = 0.25 m and two
 //! boxes on it, scanned by a line scanner moving along y 1 m above the table, every return
-//! with its sensor origin (an analytic ray cast, no randomness).
+//! with its sensor origin (an analytic ray cast, no randomness); and the helpers of the CLI
+//! tests (running `nbv`, reading its output and reports).
 
 #![allow(dead_code)]
 
@@ -92,4 +93,19 @@ pub fn nbv(args: &[&str]) -> std::process::Output {
 /// Lossy UTF-8 of a byte stream.
 pub fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
+}
+
+/// A JSON report without its timings (everything else is deterministic).
+pub fn without_times(v: &serde_json::Value) -> serde_json::Value {
+    use serde_json::Value;
+    match v {
+        Value::Object(m) => Value::Object(
+            m.iter()
+                .filter(|(k, _)| k.as_str() != "times")
+                .map(|(k, v)| (k.clone(), without_times(v)))
+                .collect(),
+        ),
+        Value::Array(a) => Value::Array(a.iter().map(without_times).collect()),
+        other => other.clone(),
+    }
 }
