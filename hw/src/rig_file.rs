@@ -347,6 +347,18 @@ mod tests {
     }
 
     #[test]
+    fn the_example_rig_files_are_valid() {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/rigs");
+        let lab = RigFile::load(format!("{dir}/lab.toml")).unwrap();
+        assert_eq!(lab.laser.address, "192.168.0.1:2111");
+        assert_eq!(lab.camera.selection(), UsbSelection::Nth(0));
+        let emulated = RigFile::load(format!("{dir}/emulated.toml")).unwrap();
+        assert!(emulated.arm.address.ends_with(":0"));
+        let missing = RigFile::load(format!("{dir}/nope.toml")).unwrap_err();
+        assert!(missing.to_string().contains("nope.toml"), "{missing}");
+    }
+
+    #[test]
     fn hand_eye_moves_the_sensor_frame_on_the_flange() {
         let urdf = concat!(
             env!("CARGO_MANIFEST_DIR"),
