@@ -87,12 +87,19 @@ struct Session {
 /// An emulated LMS400 (see the module documentation).
 ///
 /// ```no_run
+/// use nbv_core::rig::{LineScanner, LineScannerSpec, RigError, ScanLine};
 /// use nbv_hw::lms400::Lms400Emulator;
-/// # fn twin() -> Box<dyn nbv_core::rig::LineScanner> { unimplemented!() }
+/// // Any LineScanner can back it (the CLI plugs in the twin's); this one sees nothing.
+/// struct Blind(LineScannerSpec);
+/// impl LineScanner for Blind {
+///     fn spec(&self) -> &LineScannerSpec { &self.0 }
+///     fn start(&mut self) -> Result<(), RigError> { Ok(()) }
+///     fn stop(&mut self) -> Result<Vec<ScanLine>, RigError> { Ok(Vec::new()) }
+/// }
 /// let mut emulator = Lms400Emulator::bind("127.0.0.1:2111")?;
-/// let mut scanner = twin();
+/// let mut scanner = Blind(LineScannerSpec::lms400());
 /// loop {
-///     if !emulator.poll(scanner.as_mut())? {
+///     if !emulator.poll(&mut scanner)? {
 ///         std::thread::sleep(std::time::Duration::from_millis(1));
 ///     }
 /// }
