@@ -267,7 +267,7 @@ impl C4gArm {
     }
 
     fn set_override(&mut self, speed_fraction: f64) -> Result<(), RigError> {
-        let pct = (speed_fraction * 100.0).ceil().clamp(1.0, 100.0) as u8;
+        let pct = override_percent(speed_fraction);
         if self.override_pct != Some(pct) {
             self.request_ok(Command::Override(pct))?;
             self.override_pct = Some(pct);
@@ -361,6 +361,12 @@ impl Arm for C4gArm {
     }
 }
 
+/// The controller's speed override for a path's speed fraction: the whole percent at or
+/// above it (never slower than asked, up to float rounding), 1–100.
+fn override_percent(speed_fraction: f64) -> u8 {
+    (speed_fraction * 100.0 - 1e-9).ceil().clamp(1.0, 100.0) as u8
+}
+
 fn parse(line: &str) -> Result<Reply, RigError> {
     Reply::parse(line).map_err(|e| protocol(e.to_string()))
 }
@@ -399,5 +405,19 @@ fn refused(command: &Command, code: ErrorCode, text: &str) -> RigError {
             device: DEVICE.into(),
             detail: format!("`{command}` refused: {} {text}", code.as_str()),
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::override_percent;
+
+    #[test]
+    fn the_override_is_the_whole_percent_at_or_above_the_fraction() {
+        assert_eq!(override_percent(0.2), 20); // 0.2 · 100 = 20.000000000000004
+        assert_eq!(override_percent(0.201), 21);
+        assert_eq!(override_percent(0.07), 7);
+        assert_eq!(override_percent(1.0), 100);
+        assert_eq!(override_percent(0.001), 1);
     }
 }
