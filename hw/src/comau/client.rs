@@ -159,7 +159,12 @@ impl C4gArm {
                 Ok(stream) => {
                     let mut link = LineStream::new(stream, DEVICE);
                     link.send(&Command::Hello.to_string(), timeout)?;
-                    let reply = parse(&link.receive(timeout)?)?;
+                    let line = link.receive(timeout)?;
+                    let reply = Reply::parse(&line).map_err(|e| {
+                        protocol(format!(
+                            "{addr} does not speak the nbv PDL2 protocol (is hw/pdl2/nbv_server.pdl running there?): {e}"
+                        ))
+                    })?;
                     let version = match &reply {
                         Reply::Ok(words)
                             if words.first().map(String::as_str) == Some("NBV-C4G") =>
@@ -194,7 +199,7 @@ impl C4gArm {
                         break;
                     }
                     Err(e) => {
-                        tracing::warn!(attempt, "c4g: {e}");
+                        tracing::warn!(attempt, "{e}");
                         error = Some(e);
                     }
                 }
