@@ -387,6 +387,43 @@ fn nothing_listening_is_a_disconnect() {
     ));
 }
 
+#[test]
+fn a_peer_that_is_no_scanner_fails_the_connection_cleanly() {
+    // An HTTP server where the scanner should be: it answers text, never a CoLa frame;
+    // first keeping the connection open, then closing it.
+    for close in [false, true] {
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        let address = listener.local_addr().unwrap().to_string();
+        let (done, wait) = std::sync::mpsc::channel::<()>();
+        let server = std::thread::spawn(move || {
+            let (mut stream, _) = listener.accept().unwrap();
+            let mut request = [0u8; 256];
+            let _ = stream.read(&mut request);
+            let _ = stream.write_all(b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n");
+            if !close {
+                // Keep the connection open until the client has given up.
+                let _ = wait.recv_timeout(Duration::from_secs(30));
+            }
+        });
+        let config = Lms400Config {
+            address,
+            timeout: Duration::from_millis(200),
+            reconnect_attempts: 1,
+            ..Default::default()
+        };
+        let err = Lms400Scanner::connect(config).unwrap_err();
+        match (&err, close) {
+            (RigError::Timeout { device, .. }, false) => assert_eq!(device, "LMS400"),
+            (RigError::Disconnected { device, .. } | RigError::Protocol { device, .. }, true) => {
+                assert_eq!(device, "LMS400")
+            }
+            _ => panic!("close = {close}: unexpected {err}"),
+        }
+        let _ = done.send(());
+        server.join().unwrap();
+    }
+}
+
 /// A raw CoLa client: sends text commands and returns the replies' text.
 struct RawClient {
     stream: TcpStream,

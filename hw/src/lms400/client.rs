@@ -40,6 +40,17 @@ pub struct Lms400Scanner {
     held: Vec<MeasurementTelegram>,
 }
 
+impl std::fmt::Debug for Lms400Scanner {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Lms400Scanner")
+            .field("address", &self.config.address)
+            .field("scan_config", &self.scan_config)
+            .field("connected", &self.link.is_some())
+            .field("streaming", &self.streaming)
+            .finish_non_exhaustive()
+    }
+}
+
 impl Lms400Scanner {
     /// Connects, logs in and configures the scanner for `config.spec`.
     pub fn connect(config: Lms400Config) -> Result<Self, RigError> {
