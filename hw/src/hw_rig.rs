@@ -13,6 +13,7 @@ use nbv_core::rig::{DepthCameraSpec, LineScannerSpec, RigError};
 use std::time::Duration;
 
 /// How the camera driver reaches its device: libusb, or an emulated device in this process.
+#[derive(Debug)]
 pub enum CameraTransport {
     /// The IPA-1110 on the USB bus.
     Usb(UsbTransport),
@@ -54,6 +55,7 @@ impl DinastTransport for CameraTransport {
 }
 
 /// The real rig's three devices.
+#[derive(Debug)]
 pub struct HwRig {
     /// The Comau arm.
     pub arm: C4gArm,

@@ -17,6 +17,7 @@ use std::time::{Duration, Instant};
 /// kept open, so that the host sees a timeout and not an unplug.
 const SILENT_GRACE: Duration = Duration::from_secs(1);
 
+#[derive(Debug)]
 struct Call {
     request: UsbRequest,
     deadline: Instant,
@@ -24,12 +25,14 @@ struct Call {
 }
 
 /// The host side of the channel (see the module documentation).
+#[derive(Debug)]
 pub struct ChannelTransport {
     calls: Sender<Call>,
     max_wait: Duration,
 }
 
 /// The device side of the channel: hands pending calls to the emulator.
+#[derive(Debug)]
 pub struct DeviceEnd {
     calls: Receiver<Call>,
     /// Reply channels of calls the device left unanswered, with their expiry.
