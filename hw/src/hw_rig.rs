@@ -93,16 +93,15 @@ impl HwRig {
             clock_offset_s: rig.laser.clock_offset_s,
             reconnect_attempts: rig.laser.connect_attempts,
         })?;
-        let transport =
-            match camera_transport {
-                Some(t) => t,
-                None => CameraTransport::Usb(UsbTransport::open(rig.camera.selection()).map_err(
-                    |e| RigError::Disconnected {
-                        device: "dinast".into(),
-                        detail: e.to_string(),
-                    },
-                )?),
-            };
+        let transport = match camera_transport {
+            Some(t) => t,
+            None => CameraTransport::Usb(UsbTransport::open(rig.camera.usb).map_err(|e| {
+                RigError::Disconnected {
+                    device: "dinast".into(),
+                    detail: e.to_string(),
+                }
+            })?),
+        };
         let config = DinastConfig {
             timeout: Duration::from_secs_f64(rig.camera.timeout_s),
             clock_offset: rig.camera.clock_offset_s,

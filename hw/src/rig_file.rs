@@ -124,8 +124,8 @@ pub struct LaserSection {
 #[serde(deny_unknown_fields)]
 pub struct CameraSection {
     /// Which IPA-1110: `"N"` for the n-th on the bus (default `"0"`), or `"BUS:ADDRESS"`.
-    #[serde(default = "default_usb")]
-    pub usb: String,
+    #[serde(default)]
+    pub usb: UsbSelection,
     /// Longest wait for a frame, seconds.
     #[serde(default = "default_sensor_timeout")]
     pub timeout_s: f64,
@@ -169,17 +169,8 @@ impl LaserSection {
 }
 
 impl CameraSection {
-    /// The USB device to open (the default if `usb` does not parse: [`RigFile::load`]
-    /// rejects such files).
-    pub fn selection(&self) -> UsbSelection {
-        self.usb.parse().unwrap_or_default()
-    }
-
     /// Checks the values a file may get wrong (keys relative to `[camera]`).
     pub fn validate(&self) -> Result<(), ConfigError> {
-        self.usb
-            .parse::<UsbSelection>()
-            .map_err(|e| ConfigError::new("usb", e.to_string()))?;
         check_timeout("timeout_s", self.timeout_s)?;
         if !self.clock_offset_s.is_finite() {
             return Err(ConfigError::new("clock_offset_s", "must be finite"));
@@ -202,10 +193,6 @@ fn check_hand_eye(he: Option<&HandEye>) -> Result<(), ConfigError> {
     Ok(())
 }
 
-fn default_usb() -> String {
-    "0".into()
-}
-
 fn default_sensor_timeout() -> f64 {
     1.0
 }
@@ -216,7 +203,7 @@ fn default_attempts() -> u32 {
 
 fn default_camera() -> CameraSection {
     CameraSection {
-        usb: default_usb(),
+        usb: UsbSelection::default(),
         timeout_s: default_sensor_timeout(),
         clock_offset_s: 0.0,
         hand_eye: None,
@@ -338,6 +325,10 @@ mod tests {
                 "[arm]\naddress = \"h:1\"\njoint_sign = [1, 1, 2, 1, 1, 1]\n[laser]\naddress = \"h:2\"\n",
                 "arm.joint_sign[2]: must be 1 or -1",
             ),
+            (
+                &format!("{MINIMAL}[camera]\nusb = \"one\"\n"),
+                "USB selection \"one\" is neither N nor BUS:ADDRESS",
+            ),
         ];
         for (text, expected) in cases {
             let message = parse(text).unwrap_err().to_string();
@@ -351,7 +342,7 @@ mod tests {
         let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/rigs");
         let lab = RigFile::load(format!("{dir}/lab.toml")).unwrap();
         assert_eq!(lab.laser.address, "192.168.0.1:2111");
-        assert_eq!(lab.camera.selection(), UsbSelection::Nth(0));
+        assert_eq!(lab.camera.usb, UsbSelection::Nth(0));
         let emulated = RigFile::load(format!("{dir}/emulated.toml")).unwrap();
         assert!(emulated.arm.address.ends_with(":0"));
         let missing = RigFile::load(format!("{dir}/nope.toml")).unwrap_err();

@@ -28,7 +28,10 @@ pub const INTERFACE: u8 = 0;
 /// assert_eq!("001:005".parse(), Ok(UsbSelection::BusAddress { bus: 1, address: 5 }));
 /// assert_eq!(UsbSelection::default(), UsbSelection::Nth(0));
 /// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+///
+/// In a rig file it is the same text (`usb = "001:005"`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize)]
+#[serde(try_from = "String")]
 pub enum UsbSelection {
     /// The n-th matching device (0-based).
     Nth(usize),
@@ -60,6 +63,14 @@ impl fmt::Display for UsbSelection {
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
 #[error("USB selection {0:?} is neither N nor BUS:ADDRESS")]
 pub struct UsbSelectionParseError(pub String);
+
+impl TryFrom<String> for UsbSelection {
+    type Error = UsbSelectionParseError;
+
+    fn try_from(text: String) -> Result<Self, Self::Error> {
+        text.parse()
+    }
+}
 
 impl FromStr for UsbSelection {
     type Err = UsbSelectionParseError;
