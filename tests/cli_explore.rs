@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{nbv, text, without_times};
+use common::{explore, nbv, text, without_times};
 use nbv_core::cloud::io::read_cloud;
 use serde_json::Value;
 use std::path::Path;
@@ -23,26 +23,6 @@ fn generated_scene(dir: &Path) -> String {
     ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     path.display().to_string()
-}
-
-fn explore(scene: &str, out: &Path, extra: &[&str]) -> Value {
-    let mut args = vec![
-        "explore",
-        "--scene",
-        scene,
-        "-o",
-        out.to_str().unwrap(),
-        "-q",
-    ];
-    args.extend_from_slice(extra);
-    let run = nbv(&args);
-    assert!(
-        run.status.success(),
-        "{}\n{}",
-        text(&run.stdout),
-        text(&run.stderr)
-    );
-    serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap()
 }
 
 fn f(v: &Value) -> f64 {

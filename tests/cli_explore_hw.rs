@@ -14,25 +14,11 @@ use std::path::Path;
 
 const EMULATED: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/rigs/emulated.toml");
 
-fn explore(out: &Path, extra: &[&str]) -> Value {
-    let mut args = vec![
-        "explore",
-        "--scene",
-        "paper-env1",
-        "-o",
-        out.to_str().unwrap(),
-        "-q",
-        "--no-pictures",
-    ];
+/// `nbv explore` of paper-env1 without pictures into `out`; its report.
+fn explore_env1(out: &Path, extra: &[&str]) -> Value {
+    let mut args = vec!["--no-pictures"];
     args.extend_from_slice(extra);
-    let run = nbv(&args);
-    assert!(
-        run.status.success(),
-        "{}\n{}",
-        text(&run.stdout),
-        text(&run.stderr)
-    );
-    serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap()
+    common::explore("paper-env1", out, &args)
 }
 
 fn explored(report: &Value) -> BTreeSet<String> {
@@ -48,13 +34,13 @@ fn explored(report: &Value) -> BTreeSet<String> {
 #[test]
 fn the_real_drivers_explore_paper_env1_like_the_twin() {
     let dir = tempfile::tempdir().unwrap();
-    let sim = explore(&dir.path().join("sim"), &[]);
-    let hw = explore(
+    let sim = explore_env1(&dir.path().join("sim"), &[]);
+    let hw = explore_env1(
         &dir.path().join("hw"),
         &["--backend", "hw", "--rig", EMULATED, "--emulate"],
     );
     // Same scene and seed, same report through the wire too (apart from the times).
-    let again = explore(
+    let again = explore_env1(
         &dir.path().join("hw-again"),
         &["--backend", "hw", "--rig", EMULATED, "--emulate"],
     );

@@ -109,3 +109,25 @@ pub fn without_times(v: &serde_json::Value) -> serde_json::Value {
         other => other.clone(),
     }
 }
+
+/// Runs `nbv explore --scene SCENE -o OUT -q EXTRA...`, asserts success and returns the
+/// parsed `OUT/report.json`.
+pub fn explore(scene: &str, out: &std::path::Path, extra: &[&str]) -> serde_json::Value {
+    let mut args = vec![
+        "explore",
+        "--scene",
+        scene,
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ];
+    args.extend_from_slice(extra);
+    let run = nbv(&args);
+    assert!(
+        run.status.success(),
+        "{}\n{}",
+        text(&run.stdout),
+        text(&run.stderr)
+    );
+    serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap()
+}
