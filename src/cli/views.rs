@@ -10,7 +10,7 @@ use nbv_core::kinematics::IkSolution;
 use nbv_core::math::pose_to_xyz_rpy;
 use nbv_core::nbv::{NextBestView, VisitedViews};
 use nbv_core::occupancy::ReducedMap;
-use nbv_core::pipeline::{ExploreMode, NoObserver};
+use nbv_core::pipeline::{ExploreMode, NoObserver, ObjectRegion};
 use nbv_core::planning::{CollisionWorld, MotionPlanner};
 use nbv_core::rig::{Arm, DepthCamera, RigError};
 use nbv_sim::rig::SimRig;
@@ -76,7 +76,7 @@ pub struct CandidateRow {
 pub struct ObjectViews {
     /// The object's name in the scene (or `cluster-N`).
     pub name: String,
-    /// The cluster's centroid (m).
+    /// The centre of its viewing sphere (m): the cluster's centroid at the object's middle height.
     pub centroid: [f64; 3],
     /// Samples on the sphere.
     pub samples: usize,
@@ -135,13 +135,17 @@ fn list_views(scene: &nbv_scenes::Scene, args: &ViewsArgs) -> Result<Vec<ObjectV
         if args.object.as_ref().is_some_and(|n| n != &name) {
             continue;
         }
-        // As the pipeline does: a sample is reachable with the first roll about the optical
+        // As the pipeline does: the sphere around the cluster at the object's middle
+        // height, and a sample is reachable with the first roll about the optical
         // axis that has an IK solution free of collision.
         let usable = |s: &IkSolution| !planner.world().in_collision(&s.joints);
+        let centre =
+            ObjectRegion::of_cluster(cluster, segmentation.table.as_ref(), config.object_margin)
+                .viewing_centre(&cluster.centroid);
         let list = nbv.candidates_around_where(
             &robot,
             &reduced,
-            &cluster.centroid,
+            &centre,
             &VisitedViews::default(),
             &usable,
         )?;
@@ -186,7 +190,7 @@ fn list_views(scene: &nbv_scenes::Scene, args: &ViewsArgs) -> Result<Vec<ObjectV
         }
         out.push(ObjectViews {
             name,
-            centroid: [cluster.centroid.x, cluster.centroid.y, cluster.centroid.z],
+            centroid: [centre.x, centre.y, centre.z],
             samples: list.samples,
             unreachable: list.unreachable,
             rays_per_view: list.rays_per_view,
@@ -215,7 +219,7 @@ fn check_in_truth(
 
 fn table(o: &ObjectViews) -> String {
     let mut s = format!(
-        "{}: centroid ({:.3}, {:.3}, {:.3}); {} samples, {} unreachable, {} candidates, {} rays each\n",
+        "{}: sphere centre ({:.3}, {:.3}, {:.3}); {} samples, {} unreachable, {} candidates, {} rays each\n",
         o.name,
         o.centroid[0],
         o.centroid[1],

@@ -57,19 +57,10 @@ where
     let mut collisions = phase_report.collisions;
     let nbv = NextBestView::new(config.nbv, camera.spec())?;
     for (j, cluster) in segmentation.clusters.iter().enumerate() {
-        // The table's height under the object (no floor without a table plane).
-        let floor = segmentation
-            .table
-            .as_ref()
-            .filter(|t| t.normal.z > 0.5)
-            .map(|t| {
-                let c = cluster.centroid;
-                -(t.offset + t.normal.x * c.x + t.normal.y * c.y) / t.normal.z
-            })
-            .unwrap_or(f64::NEG_INFINITY);
         observer.event(&ExploreEvent::ObjectStarted { object: j });
         let cloud = cluster.cloud(&segmentation.filtered);
-        let region = ObjectRegion::around(cluster.min, cluster.max, config.object_margin, floor);
+        let region =
+            ObjectRegion::of_cluster(cluster, segmentation.table.as_ref(), config.object_margin);
         let mut object = ObjectExploration {
             index: j,
             cluster: cloud,
@@ -226,13 +217,15 @@ where
             object.stop = ObjectStop::MaxViews;
             return Ok(collisions);
         }
-        // Algorithm 2 around the centroid of everything seen of the object so far.
+        // Algorithm 2 around the centroid of everything seen of the object so far, at
+        // the object's middle height when it rests on a table (ObjectRegion).
         let t = Instant::now();
         let reduced = ReducedMap::from_grid(grid);
         object.times.mapping += t.elapsed().as_secs_f64();
         let t = Instant::now();
         let centroid = object_points(object)
             .centroid()
+            .map(|c| region.viewing_centre(&c))
             .ok_or_else(|| PipelineError::Config(format!("object {j} has no point")))?;
         // Goals must be free of self-collision, the known obstacles and the map (MoveIt's
         // collision-aware IK): a viewpoint none of whose IK solutions is free is
