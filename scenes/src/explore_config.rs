@@ -5,7 +5,7 @@
 use crate::error::{Problem, SceneError};
 use crate::scene::Scene;
 use nbv_core::kinematics::Joints;
-use nbv_core::pipeline::{ExploreConfig, ExploreMode};
+use nbv_core::pipeline::{ExploreConfig, ExploreMode, TableFilter};
 use nbv_core::planning::{Obstacle, ObstacleShape, PlannerConfig};
 use nbv_core::registration::RegistrationParams;
 
@@ -15,6 +15,9 @@ pub const SURVEY_HEIGHT: f64 = 0.45;
 /// Largest spacing (m) between survey poses: the camera's footprint at [`SURVEY_HEIGHT`] is
 /// about 0.75 × 0.54 m, so neighbouring frames overlap.
 pub const SURVEY_SPACING: f64 = 0.35;
+/// Standard deviations of the camera's range noise within which a short-range point is
+/// the table's ([`TableFilter`]): 2.5σ keeps 99 % of the table out.
+pub const TABLE_FILTER_SIGMAS: f64 = 2.5;
 
 impl Scene {
     /// The short-only survey: the camera looking straight down from [`SURVEY_HEIGHT`] above
@@ -44,6 +47,18 @@ impl Scene {
             }
         }
         poses
+    }
+
+    /// The camera's noise model, averaged over `[nbv] frames_per_view` frames, as the
+    /// [`TableFilter`] of the short-range views, rejecting within [`TABLE_FILTER_SIGMAS`]
+    /// standard deviations.
+    pub fn table_filter(&self) -> TableFilter {
+        let n = &self.sensors.short_range.noise;
+        TableFilter {
+            sigma_at_1m: n.range_sigma_at_1m / f64::from(self.nbv.frames_per_view.max(1)).sqrt(),
+            exponent: n.range_sigma_exponent,
+            k: TABLE_FILTER_SIGMAS,
+        }
     }
 
     /// The pipeline's configuration for this scene in `mode`.
@@ -122,6 +137,7 @@ impl Scene {
             stop: self.nbv.stop_rule(),
             visited: (self.nbv.visited_min_distance, 20f64.to_radians()),
             max_views_per_object: self.nbv.max_views_per_object as usize,
+            frames_per_view: self.nbv.frames_per_view as usize,
             planner,
             obstacles,
             registration: RegistrationParams {
@@ -136,6 +152,7 @@ impl Scene {
                 self.registration.max_correction_m,
             ),
             object_margin: 0.03,
+            table_filter: Some(self.table_filter()),
             seed: self.seed,
         })
     }

@@ -472,6 +472,7 @@ fn parameters(s: &Scene, c: &Check) -> Result<(), SceneError> {
         "[0, 10] m",
     )?;
     c.at_least("nbv.max_views_per_object", v.max_views_per_object.into(), 1)?;
+    c.at_least("nbv.frames_per_view", v.frames_per_view.into(), 1)?;
     // Planner.
     let p = &s.planner;
     c.at_least("planner.max_iterations", p.max_iterations.into(), 1)?;

@@ -5,7 +5,7 @@ use super::{
     ObjectExploration, ObjectRegion, ObjectRegistration, ObjectStop, PhaseOneReport, PipelineError,
     StepTimes, ViewFailure,
 };
-use crate::cloud::PointCloud;
+use crate::cloud::{PlaneFit, PointCloud};
 use crate::kinematics::Robot;
 use crate::math::Pose;
 use crate::nbv::{InformationGain, NextBestView, VisitedViews, view_pose_rolled};
@@ -14,8 +14,8 @@ use crate::perception::phase_one;
 use crate::planning::{CollisionWorld, MotionPlanner, PlanningError};
 use crate::registration::{Method, RegistrationParams, register};
 use crate::rig::{
-    Arm, DepthCamera, LineScanner, RigError, acquire_sweep, depth_frame_to_cloud, lines_to_cloud,
-    sensor_pose,
+    Arm, DepthCamera, DepthFrame, LineScanner, RigError, acquire_sweep, average_frames,
+    depth_frame_to_cloud, lines_to_cloud, sensor_pose,
 };
 use std::time::Instant;
 
@@ -82,6 +82,7 @@ where
                 &nbv,
                 &mut grid,
                 &region,
+                segmentation.table.as_ref(),
                 &mut object,
                 observer,
             )?;
@@ -199,6 +200,7 @@ fn explore_object<A, C>(
     nbv: &NextBestView,
     grid: &mut OccupancyGrid,
     region: &ObjectRegion,
+    table: Option<&PlaneFit>,
     object: &mut ObjectExploration,
     observer: &mut dyn ExploreObserver,
 ) -> Result<usize, PipelineError>
@@ -298,7 +300,7 @@ where
             }
             // Acquire, update, gain.
             let t = Instant::now();
-            let frame = camera.capture()?;
+            let frame = capture_burst(camera, config.frames_per_view)?;
             let joints = arm.joints()?;
             let pose = sensor_pose(robot, base, &joints, &camera.spec().frame)?;
             let full = depth_frame_to_cloud(&frame, camera.spec(), &pose)?;
@@ -309,7 +311,10 @@ where
             let gain = InformationGain::between(&before, grid, &candidate.visible.all())?;
             object.times.mapping += t.elapsed().as_secs_f64();
             visited.push(candidate.viewpoint.pose);
-            let cloud = region.crop(&full);
+            let mut cloud = region.crop(&full);
+            if let (Some(filter), Some(plane)) = (&config.table_filter, table) {
+                cloud = filter.remove(plane, &cloud);
+            }
             object.views.push(AcquiredView {
                 viewpoint: candidate.viewpoint.pose,
                 score: candidate.score,
@@ -399,7 +404,7 @@ where
         }
         times.motion += t.elapsed().as_secs_f64();
         let t = Instant::now();
-        let image = camera.capture()?;
+        let image = capture_burst(camera, config.frames_per_view)?;
         let joints = arm.joints()?;
         let pose = sensor_pose(robot, base, &joints, &camera.spec().frame)?;
         cloud.extend(&depth_frame_to_cloud(&image, camera.spec(), &pose)?);
@@ -443,6 +448,17 @@ fn fail(
         reason,
         collision,
     });
+}
+
+/// `n` frames (at least one) at the camera's current pose, averaged.
+fn capture_burst<C: DepthCamera + ?Sized>(
+    camera: &mut C,
+    n: usize,
+) -> Result<DepthFrame, RigError> {
+    let frames = (0..n.max(1))
+        .map(|_| camera.capture())
+        .collect::<Result<Vec<_>, _>>()?;
+    average_frames(&frames)
 }
 
 /// The cluster and every view's object points.

@@ -53,6 +53,8 @@ pub struct ExploreConfig {
     pub stop: StopRule,
     /// Visited-view thresholds: distance (m) and angle (rad) between sensor poses.
     pub visited: (f64, f64),
+    /// Depth frames captured and averaged at each viewpoint (1: a single frame).
+    pub frames_per_view: usize,
     /// Hard cap on short-range views per object.
     pub max_views_per_object: usize,
     /// The joint-space planner.
@@ -71,6 +73,9 @@ pub struct ExploreConfig {
     /// Margin (m) around an object's phase-1 bounding box within which short-range points
     /// belong to the object.
     pub object_margin: f64,
+    /// Takes the table out of each short-range view before it joins the object's model
+    /// (the noise model of the camera); `None` keeps every point above the region's floor.
+    pub table_filter: Option<super::TableFilter>,
     /// Seed of every random choice the pipeline makes (the planner's samples).
     pub seed: u64,
 }

@@ -15,6 +15,7 @@ mod explore_event;
 mod object_crop;
 mod pipeline_error;
 mod results;
+mod table_filter;
 
 pub use exploration::{explore, run_phase_one};
 pub use explore_config::{ExploreConfig, ExploreMode};
@@ -25,3 +26,4 @@ pub use results::{
     AcquiredView, Exploration, ObjectExploration, ObjectRegistration, ObjectStop, PhaseOneReport,
     StepTimes, ViewFailure,
 };
+pub use table_filter::TableFilter;

@@ -10,6 +10,7 @@
 
 mod arm;
 mod depth_camera;
+mod frame_average;
 mod line_scanner;
 mod rig_error;
 mod sensor_cloud;
@@ -18,6 +19,7 @@ mod truth;
 
 pub use arm::{Arm, JointPath, Motion, TimedJoints};
 pub use depth_camera::{DepthCamera, DepthCameraSpec, DepthFrame};
+pub use frame_average::average_frames;
 pub use line_scanner::{LineScanner, LineScannerSpec, ScanLine};
 pub use rig_error::RigError;
 pub use sensor_cloud::{SensorCloudError, depth_frame_to_cloud, lines_to_cloud, sensor_pose};

@@ -41,6 +41,10 @@ pub struct Nbv {
     pub visited_min_distance: f64,
     /// Hard cap on short-range views per object. Default 10 (the paper averages 5–6).
     pub max_views_per_object: u32,
+    /// Depth frames averaged at each viewpoint (and each short-only survey pose): the
+    /// camera's range noise falls by the square root. Default 8 (a quarter of a second at
+    /// 30 Hz); 1 takes a single frame.
+    pub frames_per_view: u32,
 }
 
 impl Default for Nbv {
@@ -58,6 +62,7 @@ impl Default for Nbv {
             ray_subsample: 8,
             visited_min_distance: 0.08,
             max_views_per_object: 10,
+            frames_per_view: 8,
         }
     }
 }
