@@ -39,6 +39,10 @@ pub struct EpisodeRow {
     pub coverage: f64,
     /// Smallest object coverage.
     pub coverage_min: f64,
+    /// Mean model precision over the matched objects: the share of model points within
+    /// the coverage tolerance of the true surface (0 in rows written before it existed).
+    #[serde(default)]
+    pub precision: f64,
     /// Mean coverage of the laser clusters alone.
     pub coverage_mid_range: f64,
     /// (coverage − coverage_mid_range) / (views per object): what a view adds.
@@ -115,6 +119,12 @@ impl EpisodeRow {
             })
             .collect::<Vec<_>>();
         let (coverage, coverage_mid_range) = (mean(&cov), mean(&mid));
+        let precision = mean(
+            &objects
+                .iter()
+                .filter_map(|o| o.precision)
+                .collect::<Vec<_>>(),
+        );
         Self {
             index: episode.index,
             id: episode.id.clone(),
@@ -133,6 +143,7 @@ impl EpisodeRow {
             collisions: report.totals.collisions,
             coverage,
             coverage_min: cov.iter().copied().fold(f64::INFINITY, f64::min).min(1.0),
+            precision,
             coverage_mid_range,
             coverage_gain_per_view: if per_object_views > 0.0 {
                 (coverage - coverage_mid_range) / per_object_views
@@ -159,7 +170,7 @@ impl EpisodeRow {
 }
 
 /// The CSV columns after the parameters (`time_s` last).
-const METRICS: [&str; 15] = [
+const METRICS: [&str; 16] = [
     "objects",
     "missed",
     "views",
@@ -167,6 +178,7 @@ const METRICS: [&str; 15] = [
     "collisions",
     "coverage",
     "coverage_min",
+    "precision",
     "coverage_mid_range",
     "coverage_gain_per_view",
     "error_gpa",
@@ -205,6 +217,7 @@ pub fn csv_text(rows: &[EpisodeRow]) -> Result<String> {
             r.collisions.to_string(),
             format!("{:.6}", r.coverage),
             format!("{:.6}", r.coverage_min),
+            format!("{:.6}", r.precision),
             format!("{:.6}", r.coverage_mid_range),
             format!("{:.6}", r.coverage_gain_per_view),
             format!("{:.6}", r.error_gpa),
@@ -404,6 +417,7 @@ mod tests {
             collisions: 0,
             coverage,
             coverage_min: coverage,
+            precision: 0.9,
             coverage_mid_range: 0.4,
             coverage_gain_per_view: (coverage - 0.4) / 2.0,
             error_gpa: gpa,
