@@ -49,7 +49,8 @@ fn paper_scenes_give_sorted_lists_and_plans_that_hold_in_truth() {
             }
         }
     }
-    assert!(queries >= 100, "{queries} queries");
+    // 96 reachable candidates over the six objects with the sphere at mid-height.
+    assert!(queries >= 90, "{queries} queries");
     assert!(
         planned as f64 >= 0.95 * queries as f64,
         "{planned} of {queries} planned"
@@ -68,7 +69,7 @@ fn table_output_and_bad_object() {
     ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let s = text(&out.stdout);
-    assert!(s.starts_with("mallet: centroid"), "{s}");
+    assert!(s.starts_with("mallet: sphere centre"), "{s}");
     assert!(!s.contains("jug"), "{s}");
     let out = nbv(&["views", "--scene", "paper-env1", "--object", "teapot"]);
     assert_eq!(out.status.code(), Some(1));

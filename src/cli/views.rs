@@ -77,7 +77,7 @@ pub struct ObjectViews {
     /// The object's name in the scene (or `cluster-N`).
     pub name: String,
     /// The centre of its viewing sphere (m): the cluster's centroid at the object's middle height.
-    pub centroid: [f64; 3],
+    pub centre: [f64; 3],
     /// Samples on the sphere.
     pub samples: usize,
     /// Samples without a collision-free IK solution at any roll (not listed).
@@ -190,7 +190,7 @@ fn list_views(scene: &nbv_scenes::Scene, args: &ViewsArgs) -> Result<Vec<ObjectV
         }
         out.push(ObjectViews {
             name,
-            centroid: [centre.x, centre.y, centre.z],
+            centre: [centre.x, centre.y, centre.z],
             samples: list.samples,
             unreachable: list.unreachable,
             rays_per_view: list.rays_per_view,
@@ -221,9 +221,9 @@ fn table(o: &ObjectViews) -> String {
     let mut s = format!(
         "{}: sphere centre ({:.3}, {:.3}, {:.3}); {} samples, {} unreachable, {} candidates, {} rays each\n",
         o.name,
-        o.centroid[0],
-        o.centroid[1],
-        o.centroid[2],
+        o.centre[0],
+        o.centre[1],
+        o.centre[2],
         o.samples,
         o.unreachable,
         o.candidates.len(),
