@@ -192,3 +192,44 @@ fn bad_input_fails_clearly_without_output() {
     );
     assert_eq!(std::fs::read_to_string(&file).unwrap(), "x");
 }
+
+#[test]
+fn set_overrides_scene_parameters_and_names_bad_keys() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = generated_scene(dir.path());
+    let r = explore(
+        &scene,
+        &dir.path().join("set"),
+        &[
+            "--no-pictures",
+            "--mode",
+            "mid-only",
+            "--set",
+            "nbv.radius=0.35",
+            "--set",
+            "nbv.gain_measure=eq5",
+        ],
+    );
+    assert_eq!(f(&r["config"]["nbv"]["radius"]), 0.35);
+    assert_eq!(r["config"]["nbv"]["gain_measure"], "eq5");
+
+    let out = dir.path().join("bad");
+    for (set, says) in [
+        ("nbv.radios=0.4", "the scene has no key `nbv.radios`"),
+        ("nbv.radius=far", "radius"),
+        ("nbv.radius=-1", "nbv.radius"),
+    ] {
+        let r = nbv(&[
+            "explore",
+            "--scene",
+            &scene,
+            "-o",
+            out.to_str().unwrap(),
+            "--set",
+            set,
+        ]);
+        assert_eq!(r.status.code(), Some(1), "{set}");
+        assert!(text(&r.stderr).contains(says), "{set}: {}", text(&r.stderr));
+        assert!(!out.exists());
+    }
+}

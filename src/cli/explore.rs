@@ -39,6 +39,11 @@ pub struct ExploreArgs {
     /// Overrides the scene's seed.
     #[arg(long)]
     pub seed: Option<u64>,
+    /// Sets a scene parameter for this run: a dotted key of the scene file and a TOML
+    /// value, e.g. `--set nbv.radius=0.45 --set nbv.gain_threshold=2.5` (repeatable; the
+    /// keys a sweep's `[params]` takes).
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = super::scene::parse_override)]
+    pub set: Vec<(String, toml::Value)>,
     /// Skip the pictures.
     #[arg(long)]
     pub no_pictures: bool,
@@ -92,7 +97,12 @@ impl From<Mode> for ExploreMode {
 
 /// Runs `nbv explore`.
 pub fn run(args: ExploreArgs) -> Result<()> {
-    let mut scene = super::scene::load(&args.scene)?;
+    let mut scene = super::scene::with_overrides(
+        &super::scene::load(&args.scene)?,
+        &args.set,
+        "--set",
+        &format!("{} with --set", args.scene),
+    )?;
     if let Some(seed) = args.seed {
         scene.seed = seed;
     }

@@ -166,6 +166,53 @@ pub fn run(args: SceneArgs) -> Result<()> {
     Ok(())
 }
 
+/// `base` with each dotted key set to its value (`nbv explore --set`, a sweep's
+/// `[params]`), checked by the scene's own validation so a bad key or value names itself;
+/// `origin` says where the overrides came from, `name` names the result in errors.
+pub fn with_overrides(
+    base: &Scene,
+    overrides: &[(String, toml::Value)],
+    origin: &str,
+    name: &str,
+) -> Result<Scene> {
+    if overrides.is_empty() {
+        return Ok(base.clone());
+    }
+    let mut value = toml::Value::try_from(base).context("scene to TOML")?;
+    for (key, v) in overrides {
+        set_dotted(&mut value, key, v.clone()).with_context(|| format!("{origin}: `{key}`"))?;
+    }
+    let text = toml::to_string(&value).context("scene to TOML")?;
+    let dir = base
+        .source
+        .as_ref()
+        .and_then(|p| p.parent().map(Path::to_path_buf))
+        .unwrap_or_else(nbv_scenes::builtin::base_dir);
+    let mut scene = Scene::from_toml_str(&text, &dir, Path::new(name))?;
+    scene.seed = base.seed;
+    Ok(scene)
+}
+
+/// Parses `KEY=VALUE` of `--set`: a dotted scene key and a TOML value (`0.45`, `16`,
+/// `"kl"`, `[1, 2]`; a bare word is taken as a string).
+pub fn parse_override(text: &str) -> Result<(String, toml::Value), String> {
+    let (key, value) = text
+        .split_once('=')
+        .ok_or_else(|| format!("`{text}`: expected KEY=VALUE (e.g. nbv.radius=0.45)"))?;
+    let key = key.trim();
+    if key.is_empty() || !key.contains('.') {
+        return Err(format!(
+            "`{key}` is not a dotted scene key (e.g. nbv.radius)"
+        ));
+    }
+    let value = value.trim();
+    let parsed = toml::from_str::<toml::Table>(&format!("v = {value}"))
+        .ok()
+        .and_then(|mut t| t.remove("v"))
+        .unwrap_or_else(|| toml::Value::String(value.to_string()));
+    Ok((key.to_string(), parsed))
+}
+
 /// A scene from a path, or a built-in one by name when no such file exists.
 pub fn load(scene: &str) -> Result<Scene> {
     let path = Path::new(scene);
@@ -179,4 +226,67 @@ pub fn load(scene: &str) -> Result<Scene> {
         );
     }
     Ok(Scene::load(path)?)
+}
+
+/// Sets `a.b.c` in a TOML table; every table on the way must exist (a typo is an error
+/// rather than a new, ignored key).
+pub(crate) fn set_dotted(root: &mut toml::Value, key: &str, value: toml::Value) -> Result<()> {
+    let parts: Vec<&str> = key.split('.').collect();
+    let mut at = root;
+    for (k, part) in parts.iter().enumerate() {
+        let table = at
+            .as_table_mut()
+            .ok_or_else(|| anyhow::anyhow!("`{}` is not a table", parts[..k].join(".")))?;
+        if k + 1 == parts.len() {
+            if !table.contains_key(*part) {
+                bail!("the scene has no key `{key}`");
+            }
+            table.insert((*part).to_string(), value);
+            return Ok(());
+        }
+        at = table
+            .get_mut(*part)
+            .ok_or_else(|| anyhow::anyhow!("the scene has no table `{}`", parts[..=k].join(".")))?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dotted_keys_must_exist() {
+        let mut v: toml::Value = toml::from_str("[nbv]\nalpha_u = 4.0").unwrap();
+        set_dotted(&mut v, "nbv.alpha_u", toml::Value::Float(2.0)).unwrap();
+        assert_eq!(v["nbv"]["alpha_u"], toml::Value::Float(2.0));
+        let e = set_dotted(&mut v, "nbv.alpha_x", toml::Value::Float(2.0)).unwrap_err();
+        assert!(e.to_string().contains("no key `nbv.alpha_x`"));
+        let e = set_dotted(&mut v, "nvb.alpha_u", toml::Value::Float(2.0)).unwrap_err();
+        assert!(e.to_string().contains("no table `nvb`"));
+    }
+
+    #[test]
+    fn overrides_parse_as_toml_values_or_words() {
+        let p = |t: &str| parse_override(t).unwrap();
+        assert_eq!(
+            p("nbv.radius=0.45"),
+            ("nbv.radius".into(), toml::Value::Float(0.45))
+        );
+        assert_eq!(p("nbv.rolls = 4").1, toml::Value::Integer(4));
+        assert_eq!(
+            p("nbv.gain_measure=eq5").1,
+            toml::Value::String("eq5".into())
+        );
+        assert_eq!(
+            p("nbv.gain_measure=\"kl\"").1,
+            toml::Value::String("kl".into())
+        );
+        assert!(parse_override("radius=1").unwrap_err().contains("dotted"));
+        assert!(
+            parse_override("nbv.radius")
+                .unwrap_err()
+                .contains("KEY=VALUE")
+        );
+    }
 }

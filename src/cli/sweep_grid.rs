@@ -23,6 +23,8 @@ use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use super::scene::with_overrides;
+
 /// The grid file as written.
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -250,52 +252,23 @@ impl Episode {
                     .with_context(|| format!("generating scene {}", self.scene.label()))?
             }
         };
-        let mut value = toml::Value::try_from(&base).context("scene to TOML")?;
-        for (key, v) in &self.params {
-            set_dotted(&mut value, key, v.clone())
-                .with_context(|| format!("{}: params.\"{key}\"", grid_file.display()))?;
-        }
-        let text = toml::to_string(&value).context("scene to TOML")?;
-        let name = PathBuf::from(format!(
-            "{} (episode {} of {})",
-            base.name,
-            self.id,
-            grid_file.display()
-        ));
-        let dir = base
-            .source
-            .as_ref()
-            .and_then(|p| p.parent().map(Path::to_path_buf))
-            .unwrap_or_else(nbv_scenes::builtin::base_dir);
-        let mut scene = Scene::from_toml_str(&text, &dir, &name)?;
+        let origin = format!("{}: params", grid_file.display());
+        let mut scene = with_overrides(
+            &base,
+            &self.params,
+            &origin,
+            &format!(
+                "{} (episode {} of {})",
+                base.name,
+                self.id,
+                grid_file.display()
+            ),
+        )?;
         if let Some(seed) = self.seed {
             scene.seed = seed;
         }
         Ok(scene)
     }
-}
-
-/// Sets `a.b.c` in a TOML table; every table on the way must exist (a typo is an error
-/// rather than a new, ignored key).
-fn set_dotted(root: &mut toml::Value, key: &str, value: toml::Value) -> Result<()> {
-    let parts: Vec<&str> = key.split('.').collect();
-    let mut at = root;
-    for (k, part) in parts.iter().enumerate() {
-        let table = at
-            .as_table_mut()
-            .ok_or_else(|| anyhow::anyhow!("`{}` is not a table", parts[..k].join(".")))?;
-        if k + 1 == parts.len() {
-            if !table.contains_key(*part) {
-                bail!("the scene has no key `{key}`");
-            }
-            table.insert((*part).to_string(), value);
-            return Ok(());
-        }
-        at = table
-            .get_mut(*part)
-            .ok_or_else(|| anyhow::anyhow!("the scene has no table `{}`", parts[..=k].join(".")))?;
-    }
-    Ok(())
 }
 
 #[cfg(test)]
@@ -340,17 +313,6 @@ mod tests {
         assert!(e("scenes = [\"a\"]\n[params]\n\"nbv.alpha_u\" = []").contains("no value"));
         assert!(e("scenes = [\"a\"]\nbogus = 1").contains("bogus"));
         assert!(e("generated = { seeds = [1], objects = 0 }").contains("generated.objects"));
-    }
-
-    #[test]
-    fn dotted_keys_must_exist() {
-        let mut v: toml::Value = toml::from_str("[nbv]\nalpha_u = 4.0").unwrap();
-        set_dotted(&mut v, "nbv.alpha_u", toml::Value::Float(2.0)).unwrap();
-        assert_eq!(v["nbv"]["alpha_u"], toml::Value::Float(2.0));
-        let e = set_dotted(&mut v, "nbv.alpha_x", toml::Value::Float(2.0)).unwrap_err();
-        assert!(e.to_string().contains("no key `nbv.alpha_x`"));
-        let e = set_dotted(&mut v, "nvb.alpha_u", toml::Value::Float(2.0)).unwrap_err();
-        assert!(e.to_string().contains("no table `nvb`"));
     }
 
     proptest! {
