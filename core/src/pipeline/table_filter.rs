@@ -49,7 +49,7 @@ impl TableFilter {
         let r = ray.norm();
         let n = plane.normal.into_inner();
         let towards = n.dot(&ray);
-        if !(r > 0.0) || towards >= 0.0 {
+        if r.is_nan() || r <= 0.0 || towards >= 0.0 {
             // A ray that does not go down onto the plane cannot see the table (a point
             // beneath it from below would still be rejected by the signed distance).
             return plane.signed_distance(p) < 0.0;
