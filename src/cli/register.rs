@@ -11,7 +11,7 @@ use nbv_core::cloud::io::{
     write_ply,
 };
 use nbv_core::math::Pose;
-use nbv_core::registration::{Method, MethodReport, RegistrationParams, register};
+use nbv_core::registration::{Method, MethodReport, RegistrationParams, SetRule, register};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -72,6 +72,9 @@ pub struct RegisterArgs {
     /// Cap on iterations (sequential ICP: per pair).
     #[arg(long, value_name = "N", default_value_t = 300)]
     max_iterations: usize,
+    /// p-ICP-GPA: how the mutual-nearest-neighbour graph becomes independent sets.
+    #[arg(long, value_enum, default_value_t = SetRuleArg::Cliques)]
+    set_rule: SetRuleArg,
     /// Worker threads (default: all cores). Results do not depend on it.
     #[arg(long, value_name = "N")]
     threads: Option<usize>,
@@ -84,6 +87,16 @@ pub struct RegisterArgs {
     /// Also write the full registration report (JSON).
     #[arg(long, value_name = "REPORT.json")]
     report: Option<PathBuf>,
+}
+
+/// `--set-rule` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum SetRuleArg {
+    /// Connected components that are complete graphs (the paper's definition).
+    Cliques,
+    /// Every connected component with at most one point per view (a public
+    /// implementation's rule).
+    Components,
 }
 
 /// `--method` values.
@@ -161,6 +174,10 @@ pub fn run(args: RegisterArgs) -> Result<ExitCode> {
         reference: args.reference,
         max_correspondence_distance: args.max_distance,
         max_iterations: args.max_iterations,
+        set_rule: match args.set_rule {
+            SetRuleArg::Cliques => SetRule::Cliques,
+            SetRuleArg::Components => SetRule::Components,
+        },
         ..RegistrationParams::default()
     };
     params.validate().context("bad option")?;

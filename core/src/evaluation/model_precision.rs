@@ -18,7 +18,8 @@ use super::sample_surface;
 /// use nbv_core::mesh::TriMesh;
 /// use nalgebra::Point3;
 /// let cube = TriMesh::cuboid([0.5, 0.5, 0.5]);
-/// let mut points = sample_surface(&cube, 300, 1);
+/// // 300 points on the surface (the first of the samples precision is measured against).
+/// let mut points = sample_surface(&cube, 300, 2);
 /// points.push(Point3::new(0.0, 0.0, 0.0)); // the cube's centre, 0.5 from every face
 /// let p = model_precision(&cube, &PointCloud::from_points(points), 0.01, 50_000, 2).unwrap();
 /// assert!((p - 300.0 / 301.0).abs() < 1e-12);
