@@ -4,9 +4,10 @@
 
 use crate::cloud::PointCloud;
 use crate::mesh::TriMesh;
-use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use nalgebra::Point3;
 
 use super::sample_surface;
+use super::surface_coverage::count_near;
 
 /// Of the finite points of `model`, the share within `tolerance` of `surface`, measured
 /// against `samples` area-weighted samples of the surface (seeded; take them dense
@@ -31,34 +32,16 @@ pub fn model_precision(
     samples: usize,
     seed: u64,
 ) -> Option<f64> {
-    let coords: Vec<[f64; 3]> = sample_surface(surface, samples, seed)
-        .iter()
-        .map(|p| [p.x, p.y, p.z])
-        .collect();
-    if coords.is_empty() {
-        return None;
-    }
-    let tree = ImmutableKdTree::<f64, 3>::builder()
-        .build_from_slice(&coords)
-        .ok()?;
-    let limit = tolerance * tolerance;
-    let finite: Vec<_> = model
+    let surface = sample_surface(surface, samples, seed);
+    let finite: Vec<Point3<f64>> = model
         .points
         .iter()
         .filter(|p| p.iter().all(|c| c.is_finite()))
+        .copied()
         .collect();
-    if finite.is_empty() {
+    if surface.is_empty() || finite.is_empty() {
         return None;
     }
-    let near = finite
-        .iter()
-        .filter(|p| {
-            tree.query(&[p.x, p.y, p.z])
-                .nearest_one::<SquaredEuclidean<f64>>()
-                .execute()
-                .distance
-                <= limit
-        })
-        .count();
+    let near = count_near(&surface, &finite, tolerance);
     Some(near as f64 / finite.len() as f64)
 }

@@ -94,24 +94,32 @@ pub fn surface_coverage(
         .into_iter()
         .filter(|p| p.z > floor)
         .collect();
-    let mut coverage = Coverage {
+    Coverage {
         samples: points.len(),
-        covered: 0,
-    };
-    let coords: Vec<[f64; 3]> = model
-        .points
+        covered: count_near(&model.points, &points, tolerance),
+    }
+}
+
+/// How many of `queries` lie within `tolerance` of a finite point of `reference` (0 when
+/// it has none).
+pub(crate) fn count_near(
+    reference: &[Point3<f64>],
+    queries: &[Point3<f64>],
+    tolerance: f64,
+) -> usize {
+    let coords: Vec<[f64; 3]> = reference
         .iter()
         .filter(|p| p.iter().all(|c| c.is_finite()))
         .map(|p| [p.x, p.y, p.z])
         .collect();
     if coords.is_empty() {
-        return coverage;
+        return 0;
     }
     let Ok(tree) = ImmutableKdTree::<f64, 3>::builder().build_from_slice(&coords) else {
-        return coverage;
+        return 0;
     };
     let limit = tolerance * tolerance;
-    coverage.covered = points
+    queries
         .iter()
         .filter(|p| {
             tree.query(&[p.x, p.y, p.z])
@@ -120,6 +128,5 @@ pub fn surface_coverage(
                 .distance
                 <= limit
         })
-        .count();
-    coverage
+        .count()
 }
