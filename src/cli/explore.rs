@@ -97,15 +97,7 @@ impl From<Mode> for ExploreMode {
 
 /// Runs `nbv explore`.
 pub fn run(args: ExploreArgs) -> Result<()> {
-    let mut scene = super::scene::with_overrides(
-        &super::scene::load(&args.scene)?,
-        &args.set,
-        "--set",
-        &format!("{} with --set", args.scene),
-    )?;
-    if let Some(seed) = args.seed {
-        scene.seed = seed;
-    }
+    let scene = super::scene::load_for_run(&args.scene, &args.set, args.seed)?;
     let report = match args.backend {
         Backend::Sim => run_episode(
             &scene,

@@ -193,6 +193,20 @@ pub fn with_overrides(
     Ok(scene)
 }
 
+/// The scene a single run uses: `scene` (path or built-in name) with the `--set` overrides
+/// and, if given, the `--seed`.
+pub fn load_for_run(
+    scene: &str,
+    set: &[(String, toml::Value)],
+    seed: Option<u64>,
+) -> Result<Scene> {
+    let mut s = with_overrides(&load(scene)?, set, "--set", &format!("{scene} with --set"))?;
+    if let Some(seed) = seed {
+        s.seed = seed;
+    }
+    Ok(s)
+}
+
 /// Parses `KEY=VALUE` of `--set`: a dotted scene key and a TOML value (`0.45`, `16`,
 /// `"kl"`, `[1, 2]`; a bare word is taken as a string).
 pub fn parse_override(text: &str) -> Result<(String, toml::Value), String> {

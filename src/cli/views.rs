@@ -95,15 +95,7 @@ pub struct ObjectViews {
 
 /// Runs `nbv views`.
 pub fn run(args: ViewsArgs) -> Result<()> {
-    let mut scene = super::scene::with_overrides(
-        &super::scene::load(&args.scene)?,
-        &args.set,
-        "--set",
-        &format!("{} with --set", args.scene),
-    )?;
-    if let Some(seed) = args.seed {
-        scene.seed = seed;
-    }
+    let scene = super::scene::load_for_run(&args.scene, &args.set, args.seed)?;
     if let Some(name) = &args.object
         && !scene.objects.iter().any(|o| &o.name == name)
     {
