@@ -188,9 +188,7 @@ pub fn with_overrides(
         .as_ref()
         .and_then(|p| p.parent().map(Path::to_path_buf))
         .unwrap_or_else(nbv_scenes::builtin::base_dir);
-    let mut scene = Scene::from_toml_str(&text, &dir, Path::new(name))?;
-    scene.seed = base.seed;
-    Ok(scene)
+    Ok(Scene::from_toml_str(&text, &dir, Path::new(name))?)
 }
 
 /// The scene a single run uses: `scene` (path or built-in name) with the `--set` overrides
