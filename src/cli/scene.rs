@@ -183,12 +183,9 @@ pub fn with_overrides(
         set_dotted(&mut value, key, v.clone()).with_context(|| format!("{origin}: `{key}`"))?;
     }
     let text = toml::to_string(&value).context("scene to TOML")?;
-    let dir = base
-        .source
-        .as_ref()
-        .and_then(|p| p.parent().map(Path::to_path_buf))
-        .unwrap_or_else(nbv_scenes::builtin::base_dir);
-    Ok(Scene::from_toml_str(&text, &dir, Path::new(name))?)
+    // The base scene's file paths are already resolved (absolute, or relative to the
+    // working directory), so they are read back against the working directory.
+    Ok(Scene::from_toml_str(&text, Path::new("."), Path::new(name))?)
 }
 
 /// The scene a single run uses: `scene` (path or built-in name) with the `--set` overrides
@@ -276,6 +273,20 @@ mod tests {
         assert!(e.to_string().contains("no key `nbv.alpha_x`"));
         let e = set_dotted(&mut v, "nvb.alpha_u", toml::Value::Float(2.0)).unwrap_err();
         assert!(e.to_string().contains("no table `nvb`"));
+    }
+
+    #[test]
+    fn overrides_keep_the_paths_of_a_scene_file_given_relative() {
+        // Tests run in the package root, where scenes/ and assets/ are.
+        let base = load("scenes/paper-env1.toml").unwrap();
+        let set = [parse_override("nbv.radius=0.45").unwrap()];
+        let s = with_overrides(&base, &set, "--set", "env1 with --set").unwrap();
+        assert_eq!(s.nbv.radius, 0.45);
+        assert_eq!(s.robot.urdf, base.robot.urdf);
+        assert!(s.robot.urdf.exists(), "{}", s.robot.urdf.display());
+        for (a, b) in s.objects.iter().zip(&base.objects) {
+            assert_eq!(a.mesh, b.mesh);
+        }
     }
 
     #[test]
