@@ -18,6 +18,12 @@ pub const SURVEY_SPACING: f64 = 0.35;
 /// Standard deviations of the camera's range noise within which a short-range point is
 /// the table's ([`TableFilter`]): 2.5σ keeps 99 % of the table out.
 pub const TABLE_FILTER_SIGMAS: f64 = 2.5;
+/// Height (m) of the band above the [`TableFilter`]'s cut in which a view's points mark an
+/// object's footprint: low enough to stay under the horse's belly from steep views.
+pub const TABLE_FILTER_FOOT_HEIGHT: f64 = 0.02;
+/// Distance (m) along the table from the footprint within which a point explained by the
+/// table is kept as the object's foot: about the averaged range noise of a view.
+pub const TABLE_FILTER_FOOT_RADIUS: f64 = 0.006;
 
 impl Scene {
     /// The short-only survey: the camera looking straight down from [`SURVEY_HEIGHT`] above
@@ -58,6 +64,8 @@ impl Scene {
             sigma_at_1m: n.range_sigma_at_1m / f64::from(self.nbv.frames_per_view.max(1)).sqrt(),
             exponent: n.range_sigma_exponent,
             k: TABLE_FILTER_SIGMAS,
+            foot_height: TABLE_FILTER_FOOT_HEIGHT,
+            foot_radius: TABLE_FILTER_FOOT_RADIUS,
         }
     }
 

@@ -185,7 +185,11 @@ pub fn with_overrides(
     let text = toml::to_string(&value).context("scene to TOML")?;
     // The base scene's file paths are already resolved (absolute, or relative to the
     // working directory), so they are read back against the working directory.
-    Ok(Scene::from_toml_str(&text, Path::new("."), Path::new(name))?)
+    Ok(Scene::from_toml_str(
+        &text,
+        Path::new("."),
+        Path::new(name),
+    )?)
 }
 
 /// The scene a single run uses: `scene` (path or built-in name) with the `--set` overrides

@@ -8,6 +8,7 @@ mod outlier_filter;
 mod plane_ransac;
 mod point_cloud;
 mod processing_error;
+mod proximity;
 mod voxel_filter;
 
 pub use euclidean_cluster::{Cluster, EuclideanClustering};
@@ -16,4 +17,5 @@ pub use outlier_filter::StatisticalOutlierFilter;
 pub use plane_ransac::{PlaneFit, PlaneRansac};
 pub use point_cloud::{CloudError, PointCloud};
 pub use processing_error::ProcessingError;
+pub use proximity::{near_mask, neighbour_counts};
 pub use voxel_filter::VoxelFilter;

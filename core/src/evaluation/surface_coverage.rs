@@ -1,9 +1,8 @@
 //! [`surface_coverage`]: the share of a true surface (above a floor) that lies within a
 //! tolerance of a model cloud, from seeded area-weighted samples of the surface.
 
-use crate::cloud::PointCloud;
+use crate::cloud::{PointCloud, near_mask};
 use crate::mesh::TriMesh;
-use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::Point3;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -107,26 +106,8 @@ pub(crate) fn count_near(
     queries: &[Point3<f64>],
     tolerance: f64,
 ) -> usize {
-    let coords: Vec<[f64; 3]> = reference
-        .iter()
-        .filter(|p| p.iter().all(|c| c.is_finite()))
-        .map(|p| [p.x, p.y, p.z])
-        .collect();
-    if coords.is_empty() {
-        return 0;
-    }
-    let Ok(tree) = ImmutableKdTree::<f64, 3>::builder().build_from_slice(&coords) else {
-        return 0;
-    };
-    let limit = tolerance * tolerance;
-    queries
-        .iter()
-        .filter(|p| {
-            tree.query(&[p.x, p.y, p.z])
-                .nearest_one::<SquaredEuclidean<f64>>()
-                .execute()
-                .distance
-                <= limit
-        })
+    near_mask(reference, queries, tolerance)
+        .into_iter()
+        .filter(|&near| near)
         .count()
 }
