@@ -37,7 +37,24 @@ enum Command {
     Sweep(cli::sweep::SweepArgs),
 }
 
+/// A closed standard output (`nbv scene describe … | head`) ends the program quietly with
+/// status 141, as SIGPIPE ends C tools, instead of `println!`'s panic.
+fn exit_quietly_on_closed_stdout() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let message = info
+            .payload()
+            .downcast_ref::<String>()
+            .map_or("", String::as_str);
+        if message.starts_with("failed printing to stdout") && message.contains("Broken pipe") {
+            std::process::exit(141);
+        }
+        default(info);
+    }));
+}
+
 fn main() -> std::process::ExitCode {
+    exit_quietly_on_closed_stdout();
     tracing_subscriber::fmt()
         // RUST_LOG overrides; by default warnings, but not wgpu-hal's complaints about
         // backends it probes and drops (a missing adapter is reported as an error anyway).

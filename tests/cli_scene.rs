@@ -253,3 +253,25 @@ fn list_names_the_builtin_scenes() {
     assert!(out.status.success());
     assert_eq!(text(&out.stdout), "paper-env1\npaper-env2\n");
 }
+
+#[test]
+fn a_closed_stdout_ends_the_program_quietly() {
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_nbv"))
+        .args(["scene", "describe", "paper-env2"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run nbv");
+    // The reader goes away before the first line (as `| head -0` would).
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = text(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    // 141 once it writes to the closed pipe; 0 only if it wrote everything first.
+    assert!(
+        matches!(out.status.code(), Some(141) | Some(0)),
+        "{:?}",
+        out.status
+    );
+}
