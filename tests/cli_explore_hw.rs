@@ -14,9 +14,10 @@ use std::path::Path;
 
 const EMULATED: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/rigs/emulated.toml");
 
-/// `nbv explore` of paper-env1 without pictures into `out`; its report.
+/// `nbv explore` of paper-env1 without pictures into `out`, at most three views per object
+/// (the drivers are under test, not the coverage); its report.
 fn explore_env1(out: &Path, extra: &[&str]) -> Value {
-    let mut args = vec!["--no-pictures"];
+    let mut args = vec!["--no-pictures", "--set", "nbv.max_views_per_object=3"];
     args.extend_from_slice(extra);
     common::explore("paper-env1", out, &args)
 }
