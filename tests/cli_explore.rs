@@ -57,14 +57,19 @@ fn hybrid_explores_the_object_and_beats_the_laser_alone() {
     let precision = f(&o["precision"]);
     assert!(precision > 0.8 && precision <= 1.0, "precision {precision}");
     // Errors against the truth are measured for every method; alignment is below the
-    // point error, which adds the Dinast's centimetre noise.
+    // point error, which adds the Dinast's centimetre noise. A registration fails when it
+    // does not converge or leaves more than 1 cm of alignment error; sequential ICP, whose
+    // pairwise errors add up along the chain, may.
     for key in ["error_unregistered", "error_gpa", "error_icp"] {
         let e = &o[key];
-        assert!(
-            f(&e["alignment"]) > 0.0 && f(&e["alignment"]) < 0.05,
-            "{key}: {e}"
-        );
-        assert!(f(&e["mean"]) > f(&e["alignment"]) * 0.5, "{key}: {e}");
+        let alignment = f(&e["alignment"]);
+        assert!(alignment > 0.0 && alignment.is_finite(), "{key}: {e}");
+        if key != "error_icp" {
+            assert!(alignment < 0.05, "{key}: {e}");
+        }
+        assert!(f(&e["mean"]) > alignment * 0.5, "{key}: {e}");
+        let failed = e["converged"] == false || alignment > 0.01;
+        assert_eq!(e["failed"], failed, "{key}: {e}");
     }
     assert_eq!(r["totals"]["views"].as_u64().unwrap() as usize, views.len());
 

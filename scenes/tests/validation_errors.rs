@@ -184,9 +184,14 @@ fn defaults_fill_omitted_sections() {
         Path::new("e2"),
     )
     .unwrap();
-    assert_eq!(env2.nbv, nbv_scenes::schema::Nbv::default());
+    assert_eq!(env2.planner, nbv_scenes::schema::Planner::default());
     assert_eq!(env2.mapping.p_hit, 0.7);
     assert_eq!((env2.nbv.alpha_u, env2.nbv.alpha_o), (4.0, 1.0));
+    // [nbv] is tuned for the twin; the keys it omits keep their defaults.
+    let defaults = nbv_scenes::schema::Nbv::default();
+    assert_eq!(env2.nbv.radius, 0.45);
+    assert_eq!(defaults.radius, 0.3);
+    assert_eq!(env2.nbv.rolls, defaults.rolls);
     assert_eq!(env2.sensors.short_range.width, 320);
     // env1 spells every default out: same values.
     let env1 = Scene::parse(&env1(), Path::new("e1")).unwrap();
@@ -194,6 +199,7 @@ fn defaults_fill_omitted_sections() {
     assert_eq!(env1.planner, env2.planner);
     assert_eq!(env1.errors, env2.errors);
     assert_eq!(env1.segmentation, env2.segmentation);
+    assert_eq!(env1.nbv, env2.nbv);
 }
 
 const TOKENS: [&str; 12] = [
