@@ -112,6 +112,9 @@ pub struct ObjectEntry {
     pub viewpoints_failed: Vec<String>,
     /// Candidates evaluated over all rounds.
     pub candidates_evaluated: usize,
+    /// Times the arm went back to its pose after the sweep, no viewpoint being reachable
+    /// from where it was.
+    pub retreats: usize,
     /// Why exploration stopped.
     pub stop: String,
     /// Share of the true surface above the table within tolerance of the model (the
@@ -311,6 +314,7 @@ pub fn evaluate(
             viewpoints_tried: object.views.len() + object.failures.len(),
             viewpoints_failed: object.failures.iter().map(|f| f.reason.clone()).collect(),
             candidates_evaluated: object.candidates_evaluated,
+            retreats: object.retreats,
             stop: stop_text(&object.stop),
             coverage: coverage_of(&model),
             coverage_mid_range: coverage_of(&object.cluster),

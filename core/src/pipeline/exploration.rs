@@ -6,6 +6,7 @@ use super::{
     StepTimes, ViewFailure,
 };
 use crate::cloud::{PlaneFit, PointCloud};
+use crate::kinematics::Joints;
 use crate::kinematics::Robot;
 use crate::math::Pose;
 use crate::nbv::{InformationGain, NextBestView, VisitedViews, view_pose_rolled};
@@ -14,7 +15,7 @@ use crate::perception::phase_one;
 use crate::planning::{CollisionWorld, MotionPlanner, PlanningError};
 use crate::registration::{Method, RegistrationParams, register};
 use crate::rig::{
-    Arm, DepthCamera, DepthFrame, LineScanner, RigError, acquire_sweep, average_frames,
+    Arm, DepthCamera, DepthFrame, JointPath, LineScanner, RigError, acquire_sweep, average_frames,
     depth_frame_to_cloud, lines_to_cloud, sensor_pose,
 };
 use std::time::Instant;
@@ -56,6 +57,8 @@ where
     let mut objects = Vec::new();
     let mut collisions = phase_report.collisions;
     let nbv = NextBestView::new(config.nbv, camera.spec())?;
+    // The paths executed since phase 1, to go back along when the arm is boxed in.
+    let mut trail = Vec::new();
     for (j, cluster) in segmentation.clusters.iter().enumerate() {
         observer.event(&ExploreEvent::ObjectStarted { object: j });
         let cloud = cluster.cloud(&segmentation.filtered);
@@ -67,6 +70,7 @@ where
             views: Vec::new(),
             failures: Vec::new(),
             candidates_evaluated: 0,
+            retreats: 0,
             stop: ObjectStop::NotExplored,
             registration: None,
             registration_error: None,
@@ -84,6 +88,7 @@ where
                 &region,
                 segmentation.table.as_ref(),
                 &mut object,
+                &mut trail,
                 observer,
             )?;
             collisions += hits;
@@ -202,6 +207,7 @@ fn explore_object<A, C>(
     region: &ObjectRegion,
     table: Option<&PlaneFit>,
     object: &mut ObjectExploration,
+    trail: &mut Vec<JointPath>,
     observer: &mut dyn ExploreObserver,
 ) -> Result<usize, PipelineError>
 where
@@ -214,6 +220,7 @@ where
     let mut collisions = 0;
     let mut failures_since_view = 0;
     let mut attempt: u64 = 0;
+    let mut retreated = false;
     loop {
         if object.views.len() >= config.max_views_per_object {
             object.stop = ObjectStop::MaxViews;
@@ -281,6 +288,9 @@ where
             let t = Instant::now();
             let moved = arm.execute(&planned.path);
             object.times.motion += t.elapsed().as_secs_f64();
+            if moved.is_ok() {
+                trail.push(planned.path.clone());
+            }
             if let Err(e) = moved {
                 let collision = matches!(e, RigError::Collision { .. });
                 collisions += usize::from(collision);
@@ -338,9 +348,29 @@ where
             });
             latest_gain = Some(gain);
             taken = true;
+            retreated = false;
             break;
         }
         if !taken {
+            // No viewpoint was reachable from where the arm is (its last view can leave
+            // it boxed in by what that view added to the map): once, it goes back the way
+            // it came since phase 1 — space it has just moved through — and samples again.
+            if !retreated && !trail.is_empty() {
+                retreated = true;
+                let back = retrace(trail, arm.joints()?);
+                let t = Instant::now();
+                let moved = arm.execute(&back);
+                object.times.motion += t.elapsed().as_secs_f64();
+                match moved {
+                    Ok(_) => {
+                        trail.clear();
+                        object.retreats += 1;
+                        continue;
+                    }
+                    Err(RigError::Collision { .. }) => collisions += 1,
+                    Err(e) => return Err(e.into()),
+                }
+            }
             object.stop = ObjectStop::Rule(crate::nbv::StopReason::NoViewpoint);
             return Ok(collisions);
         }
@@ -414,12 +444,25 @@ where
     Ok((frames, cloud))
 }
 
+/// The executed paths of `trail` backwards, from `now` (the arm's configuration) to where
+/// the first of them started.
+fn retrace(trail: &[JointPath], now: Joints) -> JointPath {
+    let mut waypoints = vec![now];
+    for path in trail.iter().rev() {
+        waypoints.extend(path.waypoints.iter().rev().copied());
+    }
+    JointPath {
+        waypoints,
+        speed_fraction: trail.last().map_or(1.0, |p| p.speed_fraction),
+    }
+}
+
 /// Plans; when the start touches only map voxels (unknown space around the arm that no
 /// ray cleared), those voxels are dropped from the planner's world and it plans again.
 fn plan_clearing_start(
     planner: &mut MotionPlanner,
-    start: &crate::kinematics::Joints,
-    goals: &[crate::kinematics::Joints],
+    start: &Joints,
+    goals: &[Joints],
     seed: u64,
 ) -> Result<crate::planning::PlannedPath, PlanningError> {
     match planner.plan(start, goals, seed) {
@@ -534,4 +577,32 @@ fn within_correction(views: &[PointCloud], poses: &[Pose], max: (f64, f64)) -> b
         let moved = v.centroid().is_none_or(|c| (p * c - c).norm() <= max.1);
         p.rotation.angle() <= max.0 && moved
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn q(a: f64) -> Joints {
+        Joints::from([a, 0.0, -1.5, 0.0, 1.5, 0.0])
+    }
+
+    #[test]
+    fn retrace_goes_back_through_every_executed_waypoint_to_the_first_start() {
+        let trail = vec![
+            JointPath {
+                waypoints: vec![q(0.0), q(0.1), q(0.2)],
+                speed_fraction: 0.3,
+            },
+            JointPath {
+                waypoints: vec![q(0.2), q(0.5)],
+                speed_fraction: 0.3,
+            },
+        ];
+        // The arm stopped a hair off the last waypoint.
+        let back = retrace(&trail, q(0.501));
+        let firsts: Vec<f64> = back.waypoints.iter().map(|w| w[0]).collect();
+        assert_eq!(firsts, vec![0.501, 0.5, 0.2, 0.2, 0.1, 0.0]);
+        assert_eq!(back.speed_fraction, 0.3);
+    }
 }

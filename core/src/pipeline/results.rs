@@ -154,6 +154,9 @@ pub struct ObjectExploration {
     pub failures: Vec<ViewFailure>,
     /// Candidate viewpoints evaluated (summed over the NBV rounds).
     pub candidates_evaluated: usize,
+    /// Times the arm went back to the pose after the sweep because no viewpoint was
+    /// reachable from where it was.
+    pub retreats: usize,
     /// Why it ended.
     pub stop: ObjectStop,
     /// The registrations (`None` with no short-range view, or when registration failed).
