@@ -288,9 +288,6 @@ where
             let t = Instant::now();
             let moved = arm.execute(&planned.path);
             object.times.motion += t.elapsed().as_secs_f64();
-            if moved.is_ok() {
-                trail.push(planned.path.clone());
-            }
             if let Err(e) = moved {
                 let collision = matches!(e, RigError::Collision { .. });
                 collisions += usize::from(collision);
@@ -308,6 +305,7 @@ where
                 }
                 continue;
             }
+            trail.push(planned.path);
             // Acquire, update, gain.
             let t = Instant::now();
             let frame = capture_burst(camera, config.frames_per_view)?;

@@ -94,32 +94,35 @@ impl TableFilter {
         let tests: Vec<(bool, f64)> = (0..cloud.len())
             .map(|i| self.ray_test(plane, &origins[i], &cloud.points[i]))
             .collect();
-        let table: Vec<bool> = tests.iter().map(|t| t.0).collect();
-        let on_plane = |p: &Point3<f64>| p - plane.normal.into_inner() * plane.signed_distance(p);
-        let footprint: Vec<Point3<f64>> = cloud
-            .points
-            .iter()
-            .zip(&tests)
-            .filter(|&(p, &(t, cut))| !t && plane.signed_distance(p) <= cut + self.foot_height)
-            .map(|(p, _)| on_plane(p))
-            .collect();
-        // A wall's foot is dense in projection; the table's noise tail that passes the ray
-        // test is scattered and seeds nothing.
-        let footprint: Vec<Point3<f64>> = neighbour_counts(&footprint, self.foot_radius)
-            .into_iter()
-            .zip(footprint)
-            .filter(|&(n, _)| n >= FOOT_SUPPORT)
-            .map(|(_, p)| p)
-            .collect();
-        let explained: Vec<usize> = (0..cloud.len()).filter(|&i| table[i]).collect();
-        let queries: Vec<Point3<f64>> = explained
-            .iter()
-            .map(|&i| on_plane(&cloud.points[i]))
-            .collect();
-        let mut keep: Vec<bool> = table.iter().map(|t| !t).collect();
-        if self.foot_height > 0.0 && !footprint.is_empty() {
-            let near = near_mask(&footprint, &queries, self.foot_radius);
-            for (&i, near) in explained.iter().zip(near) {
+        let mut keep: Vec<bool> = tests.iter().map(|&(table, _)| !table).collect();
+        if self.foot_height > 0.0 {
+            let on_plane =
+                |p: &Point3<f64>| p - plane.normal.into_inner() * plane.signed_distance(p);
+            let band: Vec<Point3<f64>> = cloud
+                .points
+                .iter()
+                .zip(&tests)
+                .filter(|&(p, &(t, cut))| !t && plane.signed_distance(p) <= cut + self.foot_height)
+                .map(|(p, _)| on_plane(p))
+                .collect();
+            // A wall's foot is dense in projection; the table's noise tail that passes the
+            // ray test is scattered and seeds nothing.
+            let footprint: Vec<Point3<f64>> = neighbour_counts(&band, self.foot_radius)
+                .into_iter()
+                .zip(band)
+                .filter(|&(n, _)| n >= FOOT_SUPPORT)
+                .map(|(_, p)| p)
+                .collect();
+            let explained: Vec<usize> = (0..cloud.len()).filter(|&i| !keep[i]).collect();
+            let queries: Vec<Point3<f64>> = explained
+                .iter()
+                .map(|&i| on_plane(&cloud.points[i]))
+                .collect();
+            for (i, near) in
+                explained
+                    .into_iter()
+                    .zip(near_mask(&footprint, &queries, self.foot_radius))
+            {
                 keep[i] = near;
             }
         }
