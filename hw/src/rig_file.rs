@@ -7,6 +7,7 @@
 //! [arm]                      # Comau C4G running hw/pdl2/nbv_server.pdl
 //! address = "192.168.1.10:12345"
 //! timeout_s = 2.0            # optional
+//! sample_timeout_s = 0.5     # longest gap between motion samples (optional; timeout_s)
 //!
 //! [laser]                    # SICK LMS400
 //! address = "192.168.0.1:2111"

@@ -5,11 +5,10 @@
 use nbv_core::kinematics::{Joints, Robot};
 use nbv_core::rig::{Arm, JointPath, Motion, RigError, TimedJoints};
 use nbv_hw::comau::{C4gArm, C4gConfig, C4gEmulator, C4gEmulatorStats, C4gFaults};
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
+use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// Moves in straight joint-space lines at 1 rad/s × speed fraction, sampled at 50 Hz;
 /// refuses any joint beyond ±3 rad.
@@ -61,9 +60,14 @@ impl Arm for LinearArm {
     }
 }
 
+/// Safety net of every wait whose outcome is not a timeout: generous, so that no test
+/// depends on how fast this machine is; a test that hangs fails after it.
+const SAFETY_S: f64 = 60.0;
+
 struct Harness {
     address: String,
     stop: Arc<AtomicBool>,
+    stats: Arc<Mutex<C4gEmulatorStats>>,
     thread: Option<JoinHandle<(C4gEmulatorStats, Vec<f64>)>>,
 }
 
@@ -74,31 +78,33 @@ impl Harness {
 
     fn start_with(q: Joints, faults: C4gFaults, kinematics: Option<Robot>) -> Self {
         let stop = Arc::new(AtomicBool::new(false));
-        let (tx, rx) = mpsc::channel();
-        let flag = stop.clone();
+        let stats = Arc::new(Mutex::new(C4gEmulatorStats::default()));
+        let (flag, shared) = (stop.clone(), stats.clone());
+        let mut emulator = C4gEmulator::bind("127.0.0.1:0").unwrap();
+        if let Some(robot) = kinematics {
+            emulator = emulator.with_kinematics(robot, "tool0");
+        }
+        emulator.set_faults(faults);
+        let address = emulator.local_addr().unwrap().to_string();
         let thread = std::thread::spawn(move || {
-            let mut emulator = C4gEmulator::bind("127.0.0.1:0").unwrap();
-            if let Some(robot) = kinematics {
-                emulator = emulator.with_kinematics(robot, "tool0");
-            }
-            emulator.set_faults(faults);
-            tx.send(emulator.local_addr().unwrap().to_string()).unwrap();
             let mut arm = LinearArm {
                 q,
                 clock: 10.0,
                 fractions: Vec::new(),
             };
-            while !flag.load(Ordering::Relaxed) {
-                if !emulator.poll(&mut arm) {
+            while !flag.load(Ordering::SeqCst) {
+                let busy = emulator.poll(&mut arm);
+                *shared.lock().unwrap() = emulator.stats().clone();
+                if !busy {
                     std::thread::sleep(Duration::from_millis(1));
                 }
             }
             (emulator.stats().clone(), arm.fractions)
         });
-        let address = rx.recv_timeout(Duration::from_secs(10)).unwrap();
         Self {
             address,
             stop,
+            stats,
             thread: Some(thread),
         }
     }
@@ -110,8 +116,30 @@ impl Harness {
         }
     }
 
+    /// Waits until the emulator's stats satisfy `condition` (failing after [`SAFETY_S`]).
+    fn wait_for(&self, what: &str, condition: impl Fn(&C4gEmulatorStats) -> bool) {
+        let deadline = Instant::now() + Duration::from_secs_f64(SAFETY_S);
+        loop {
+            let stats = self.stats.lock().unwrap().clone();
+            if condition(&stats) {
+                return;
+            }
+            assert!(
+                Instant::now() < deadline,
+                "never reached: {what} ({stats:?})"
+            );
+            std::thread::sleep(Duration::from_millis(1));
+        }
+    }
+
+    /// Waits until `n` clients are gone, then stops the emulator.
+    fn finish_after(self, n: usize) -> (C4gEmulatorStats, Vec<f64>) {
+        self.wait_for("clients gone", |s| s.disconnections >= n);
+        self.finish()
+    }
+
     fn finish(mut self) -> (C4gEmulatorStats, Vec<f64>) {
-        self.stop.store(true, Ordering::Relaxed);
+        self.stop.store(true, Ordering::SeqCst);
         self.thread.take().unwrap().join().unwrap()
     }
 }
@@ -124,7 +152,7 @@ fn q(values: [f64; 6]) -> Joints {
 fn joints_and_a_path_cross_the_wire() {
     let start = q([0.1, -0.2, -1.5, 0.3, 0.4, -0.5]);
     let h = Harness::start(start, C4gFaults::default());
-    let mut arm = C4gArm::connect(h.config(2.0)).unwrap();
+    let mut arm = C4gArm::connect(h.config(SAFETY_S)).unwrap();
     let reported = arm.joints().unwrap();
     assert!((reported - start).amax() < 1e-5, "{reported} vs {start}");
 
@@ -147,9 +175,36 @@ fn joints_and_a_path_cross_the_wire() {
     let halfway = motion.joints_at(10.4).unwrap();
     assert!((halfway[0] - 0.2).abs() < 1e-3, "{halfway}");
     drop(arm);
-    let (stats, fractions) = h.finish();
+    let (stats, fractions) = h.finish_after(1);
     assert_eq!(stats.motions, 2);
+    assert_eq!(stats.stops, 0);
     assert_eq!(fractions, vec![0.25, 0.25]);
+}
+
+#[test]
+fn a_normal_bye_is_not_a_stop() {
+    let start = Joints::zeros();
+    let h = Harness::start(start, C4gFaults::default());
+    let mut arm = C4gArm::connect(h.config(SAFETY_S)).unwrap();
+    arm.execute(&JointPath {
+        waypoints: vec![start, q([0.2, 0.0, 0.0, 0.0, 0.0, 0.0])],
+        speed_fraction: 1.0,
+    })
+    .unwrap();
+    drop(arm); // says BYE between motions
+    let (stats, _) = h.finish_after(1);
+    assert_eq!(
+        stats,
+        C4gEmulatorStats {
+            connections: 1,
+            // HELLO, OVR, JNT, MOVE, BYE: the BYE was read before the hang-up.
+            commands: 5,
+            motions: 1,
+            stops: 0,
+            stop_requests: 0,
+            disconnections: 1,
+        }
+    );
 }
 
 #[test]
@@ -162,14 +217,14 @@ fn the_controller_pose_is_the_flange_by_forward_kinematics() {
     let at = q([0.3, 0.2, -1.3, 0.4, 0.7, -0.2]);
     let expected = robot.fk(&at, "tool0").unwrap();
     let h = Harness::start_with(at, C4gFaults::default(), Some(robot));
-    let mut arm = C4gArm::connect(h.config(2.0)).unwrap();
+    let mut arm = C4gArm::connect(h.config(SAFETY_S)).unwrap();
     let pose = arm.reported_pose().unwrap();
     assert!((pose.translation.vector - expected.translation.vector).norm() < 1e-6);
     assert!(pose.rotation.angle_to(&expected.rotation) < 1e-5);
     drop(arm);
     // Without kinematics the emulator refuses, as a clear error.
     let h2 = Harness::start(at, C4gFaults::default());
-    let mut arm = C4gArm::connect(h2.config(2.0)).unwrap();
+    let mut arm = C4gArm::connect(h2.config(SAFETY_S)).unwrap();
     let err = arm.reported_pose().unwrap_err();
     assert!(err.to_string().contains("with_kinematics"), "{err}");
     drop(arm);
@@ -181,7 +236,7 @@ fn the_controller_pose_is_the_flange_by_forward_kinematics() {
 fn joint_signs_and_offsets_map_the_model_onto_the_controller() {
     let controller = q([0.5, 0.0, -1.0, 0.0, 0.2, 0.0]);
     let h = Harness::start(controller, C4gFaults::default());
-    let mut config = h.config(2.0);
+    let mut config = h.config(SAFETY_S);
     config.joint_sign[0] = -1.0;
     config.joint_offset_deg[2] = -90.0;
     let mut arm = C4gArm::connect(config).unwrap();
@@ -206,7 +261,7 @@ fn joint_signs_and_offsets_map_the_model_onto_the_controller() {
 fn a_target_beyond_the_strokes_is_refused_as_an_invalid_path() {
     let start = Joints::zeros();
     let h = Harness::start(start, C4gFaults::default());
-    let mut arm = C4gArm::connect(h.config(2.0)).unwrap();
+    let mut arm = C4gArm::connect(h.config(SAFETY_S)).unwrap();
     let err = arm
         .execute(&JointPath {
             waypoints: vec![start, q([3.1, 0.0, 0.0, 0.0, 0.0, 0.0])],
@@ -227,7 +282,7 @@ fn a_target_beyond_the_strokes_is_refused_as_an_invalid_path() {
 fn a_collision_crosses_the_wire_as_a_collision() {
     let start = Joints::zeros();
     let h = Harness::start(start, C4gFaults::default());
-    let mut arm = C4gArm::connect(h.config(2.0)).unwrap();
+    let mut arm = C4gArm::connect(h.config(SAFETY_S)).unwrap();
     let err = arm
         .execute(&JointPath {
             waypoints: vec![start, q([0.0, 2.6, 0.0, 0.0, 0.0, 0.0])],
@@ -247,6 +302,45 @@ fn a_collision_crosses_the_wire_as_a_collision() {
 }
 
 #[test]
+fn the_server_answers_bye_and_hangs_up_without_a_stop() {
+    // A raw client that waits for the hang-up itself, so the emulator always takes the
+    // path of a BYE read and answered (not of a client that vanished first).
+    use std::io::{BufRead, BufReader, Write};
+    let h = Harness::start(Joints::zeros(), C4gFaults::default());
+    let mut stream = std::net::TcpStream::connect(&h.address).unwrap();
+    stream
+        .set_read_timeout(Some(Duration::from_secs_f64(SAFETY_S)))
+        .unwrap();
+    let mut lines = BufReader::new(stream.try_clone().unwrap());
+    let mut line = String::new();
+    let mut exchange = |stream: &mut std::net::TcpStream, command: &str| -> Vec<String> {
+        stream.write_all(command.as_bytes()).unwrap();
+        let mut got = Vec::new();
+        loop {
+            line.clear();
+            if lines.read_line(&mut line).unwrap() == 0 {
+                got.push("<hang-up>".to_owned());
+                return got;
+            }
+            got.push(line.trim_end().to_owned());
+            if !(got.len() == 1 && command.starts_with("MOVE") || line.starts_with("S ")) {
+                return got;
+            }
+        }
+    };
+    assert_eq!(exchange(&mut stream, "HELLO\n"), ["OK NBV-C4G 1"]);
+    let motion = exchange(&mut stream, "MOVE 2.0 0 0 0 0 0\n");
+    assert_eq!(motion[0], "OK");
+    assert!(motion.last().unwrap().starts_with("DONE "), "{motion:?}");
+    assert_eq!(exchange(&mut stream, "BYE\n"), ["OK"]);
+    line.clear();
+    assert_eq!(lines.read_line(&mut line).unwrap(), 0, "no hang-up: {line}");
+    let (stats, _) = h.finish_after(1);
+    assert_eq!(stats.motions, 1);
+    assert_eq!(stats.stops, 0, "a BYE between motions is no stop");
+}
+
+#[test]
 fn a_connection_lost_mid_motion_is_reported_and_the_next_call_reconnects() {
     let start = Joints::zeros();
     let faults = C4gFaults {
@@ -254,7 +348,7 @@ fn a_connection_lost_mid_motion_is_reported_and_the_next_call_reconnects() {
         ..C4gFaults::default()
     };
     let h = Harness::start(start, faults);
-    let mut arm = C4gArm::connect(h.config(2.0)).unwrap();
+    let mut arm = C4gArm::connect(h.config(SAFETY_S)).unwrap();
     let err = arm
         .execute(&JointPath {
             waypoints: vec![start, q([1.0, 0.0, 0.0, 0.0, 0.0, 0.0])],
@@ -272,9 +366,14 @@ fn a_connection_lost_mid_motion_is_reported_and_the_next_call_reconnects() {
     let now = arm.joints().unwrap();
     assert!((now[0] - 1.0).abs() < 1e-6);
     drop(arm);
-    let (stats, _) = h.finish();
+    // Both sessions are over (the second one with BYE) before the counts are read.
+    let (stats, _) = h.finish_after(2);
     assert_eq!(stats.connections, 2);
+    assert_eq!(stats.disconnections, 2);
+    // The motion cut by the fault is the one stop; the BYE that closed the second session
+    // (HELLO, JNT, BYE: read whatever the timing) is none.
     assert_eq!(stats.stops, 1);
+    assert_eq!(stats.commands, 4 + 3);
 }
 
 #[test]
@@ -285,7 +384,13 @@ fn a_silent_controller_times_out_during_a_motion() {
         ..C4gFaults::default()
     };
     let h = Harness::start(start, faults);
-    let mut arm = C4gArm::connect(h.config(0.2)).unwrap();
+    // Every reply up to the accepted MOVE has the safety net; only the gap between samples
+    // is short, and it is a silence that never ends.
+    let config = C4gConfig {
+        sample_timeout_s: Some(0.2),
+        ..h.config(SAFETY_S)
+    };
+    let mut arm = C4gArm::connect(config).unwrap();
     let err = arm
         .execute(&JointPath {
             waypoints: vec![start, q([0.5, 0.0, 0.0, 0.0, 0.0, 0.0])],
@@ -296,8 +401,13 @@ fn a_silent_controller_times_out_during_a_motion() {
         matches!(&err, RigError::Timeout { device, seconds } if device == "c4g" && (*seconds - 0.2).abs() < 1e-9),
         "{err}"
     );
+    // The client sends STOP only when it times out waiting for samples, i.e. after the
+    // server accepted the MOVE: the timeout happened during the motion.
+    h.wait_for("the client's STOP", |s| s.stop_requests == 1);
     drop(arm);
-    h.finish();
+    let (stats, _) = h.finish_after(1);
+    assert_eq!(stats.motions, 1);
+    assert_eq!(stats.stop_requests, 1);
 }
 
 #[test]
@@ -312,14 +422,14 @@ fn garbage_is_a_protocol_error_and_the_session_recovers() {
     // The greeting itself gets the garbage: connecting fails cleanly, then succeeds.
     let err = C4gArm::connect(C4gConfig {
         connect_attempts: 1,
-        ..h.config(1.0)
+        ..h.config(SAFETY_S)
     })
     .unwrap_err();
     assert!(
         matches!(&err, RigError::Protocol { detail, .. } if detail.contains("garbage")),
         "{err}"
     );
-    let mut arm = C4gArm::connect(h.config(1.0)).unwrap();
+    let mut arm = C4gArm::connect(h.config(SAFETY_S)).unwrap();
     assert!(arm.joints().unwrap().amax() < 1e-9);
     drop(arm);
     h.finish();
@@ -330,7 +440,9 @@ fn a_slow_controller_times_out() {
     let h = Harness::start(
         Joints::zeros(),
         C4gFaults {
-            reply_delay: Some(Duration::from_millis(600)),
+            // Held far beyond the client's timeout: the reply cannot come in time however
+            // the threads are scheduled.
+            reply_delay: Some(Duration::from_secs(3600)),
             ..C4gFaults::default()
         },
     );
@@ -345,13 +457,14 @@ fn a_slow_controller_times_out() {
 
 #[test]
 fn nobody_listening_is_a_clear_disconnection() {
-    let port = {
-        let l = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-        l.local_addr().unwrap().port()
-    };
+    // The port is held (listening on 127.0.0.1) for the whole test, so no other test's
+    // emulator can take it; nobody listens at 127.0.0.2 on it: connecting is refused.
+    let held = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = held.local_addr().unwrap().port();
     let err = C4gArm::connect(C4gConfig {
         connect_attempts: 2,
-        ..C4gConfig::new(format!("127.0.0.1:{port}"))
+        timeout_s: SAFETY_S,
+        ..C4gConfig::new(format!("127.0.0.2:{port}"))
     })
     .unwrap_err();
     assert!(
@@ -360,12 +473,13 @@ fn nobody_listening_is_a_clear_disconnection() {
     );
     let err = C4gArm::connect(C4gConfig::new("no-such-host.invalid:1")).unwrap_err();
     assert!(matches!(err, RigError::Disconnected { .. }), "{err}");
+    drop(held);
 }
 
 #[test]
 fn bad_paths_never_reach_the_controller() {
     let h = Harness::start(Joints::zeros(), C4gFaults::default());
-    let mut arm = C4gArm::connect(h.config(1.0)).unwrap();
+    let mut arm = C4gArm::connect(h.config(SAFETY_S)).unwrap();
     for (path, what) in [
         (
             JointPath {

@@ -7,8 +7,9 @@
 //! own offset). Joint values cross the wire in degrees as `sign · q + offset`, so a URDF
 //! whose zero or sense differs from the controller's can be used unchanged.
 //!
-//! Every reply is awaited at most `timeout` (during a motion: the gap between samples). A
-//! timeout during a motion sends `STOP` and reports [`RigError::Timeout`]; a lost
+//! Every reply is awaited at most `timeout_s`; during a motion, once the server has accepted
+//! the `MOVE`, the gap between samples at most `sample_timeout_s` (`timeout_s` unless
+//! given). A timeout during a motion sends `STOP` and reports [`RigError::Timeout`]; a lost
 //! connection is reported as [`RigError::Disconnected`] (the server stops the arm when its
 //! client goes), and the next call reconnects.
 
@@ -33,6 +34,10 @@ pub struct C4gConfig {
     /// Longest wait for any reply (and between samples during a motion), seconds.
     #[serde(default = "default_timeout")]
     pub timeout_s: f64,
+    /// Longest gap between two samples of a motion once its `MOVE` was accepted, seconds
+    /// (the server sends one every 20 ms while the arm moves); `timeout_s` if not given.
+    #[serde(default)]
+    pub sample_timeout_s: Option<f64>,
     /// Connection attempts when the connection is found lost (at least 1).
     #[serde(default = "default_attempts")]
     pub connect_attempts: u32,
@@ -62,6 +67,7 @@ impl C4gConfig {
         Self {
             address: address.into(),
             timeout_s: default_timeout(),
+            sample_timeout_s: None,
             connect_attempts: default_attempts(),
             joint_sign: default_signs(),
             joint_offset_deg: [0.0; 6],
@@ -70,6 +76,13 @@ impl C4gConfig {
 
     fn timeout(&self) -> Duration {
         Duration::from_secs_f64(self.timeout_s.clamp(1e-3, 3600.0))
+    }
+
+    fn sample_timeout(&self) -> Duration {
+        self.sample_timeout_s.map_or_else(
+            || self.timeout(),
+            |s| Duration::from_secs_f64(s.clamp(1e-3, 3600.0)),
+        )
     }
 
     fn model_to_controller(&self, q: &Joints) -> [f64; 6] {
@@ -86,6 +99,9 @@ impl C4gConfig {
     pub fn validate(&self) -> Result<(), ConfigError> {
         check_address("address", &self.address)?;
         check_timeout("timeout_s", self.timeout_s)?;
+        if let Some(s) = self.sample_timeout_s {
+            check_timeout("sample_timeout_s", s)?;
+        }
         if self.connect_attempts == 0 {
             return Err(ConfigError::new("connect_attempts", "must be at least 1"));
         }
@@ -284,6 +300,7 @@ impl C4gArm {
     fn move_to(&mut self, target: &Joints, samples: &mut Vec<TimedJoints>) -> Result<(), RigError> {
         let command = Command::Move(self.config.model_to_controller(target));
         let config = self.config.clone();
+        let sample_timeout = config.sample_timeout();
         self.with_link(|link, timeout| {
             link.send(&command.to_string(), timeout)?;
             match parse(&link.receive(timeout)?)? {
@@ -292,7 +309,7 @@ impl C4gArm {
                 other => return Err(protocol(format!("`MOVE` answered `{other}`"))),
             }
             loop {
-                let line = match link.receive(timeout) {
+                let line = match link.receive(sample_timeout) {
                     Ok(line) => line,
                     Err(e @ RigError::Timeout { .. }) => {
                         // Best effort: the controller must not keep moving unattended.

@@ -44,8 +44,14 @@ pub struct C4gEmulatorStats {
     pub commands: usize,
     /// Motions executed on the backing arm.
     pub motions: usize,
-    /// Motions cut short because the client was lost or sent `STOP`.
+    /// Motions cut short because the client was lost while their samples were still
+    /// going out (the PDL2 server cancels the motion of a lost client). A client that says
+    /// `BYE` between motions is not one.
     pub stops: usize,
+    /// `STOP` commands received, answered or not (a silent controller ignores them).
+    pub stop_requests: usize,
+    /// Clients gone: after `BYE`, hung up by the client, or dropped by a fault.
+    pub disconnections: usize,
 }
 
 struct Client {
@@ -138,10 +144,13 @@ impl C4gEmulator {
         let alive = self.serve(&mut client, arm, &mut busy);
         if alive {
             self.client = Some(client);
-        } else if client.moving.is_some() || client.output.iter().any(|(_, l)| l.starts_with(b"S "))
-        {
-            // The PDL2 server cancels the motion of a lost client.
-            self.stats.stops += 1;
+        } else {
+            self.stats.disconnections += 1;
+            if client.moving.is_some() || client.output.iter().any(|(_, l)| l.starts_with(b"S ")) {
+                // Lost while a motion was still streaming (a fault cut it, or samples were
+                // still queued): the PDL2 server cancels the motion of a lost client.
+                self.stats.stops += 1;
+            }
         }
         busy
     }
@@ -149,16 +158,26 @@ impl C4gEmulator {
     /// Reads, answers and flushes one client; `false` once it is gone.
     fn serve(&mut self, client: &mut Client, arm: &mut dyn Arm, busy: &mut bool) -> bool {
         let mut chunk = [0u8; 512];
+        // The client hung up; the lines it sent before are still answered (as the PDL2
+        // server reads them), so what it last said (`BYE`, `STOP`) is seen whatever the
+        // timing of its hang-up.
+        let mut gone = false;
         loop {
             match client.stream.read(&mut chunk) {
-                Ok(0) => return false,
+                Ok(0) => {
+                    gone = true;
+                    break;
+                }
                 Ok(n) => {
                     client.input.extend_from_slice(&chunk[..n]);
                     *busy = true;
                 }
                 Err(e) if e.kind() == ErrorKind::WouldBlock => break,
                 Err(e) if e.kind() == ErrorKind::Interrupted => {}
-                Err(_) => return false,
+                Err(_) => {
+                    gone = true;
+                    break;
+                }
             }
             if client.input.len() > 4 * MAX_LINE {
                 break;
@@ -170,6 +189,10 @@ impl C4gEmulator {
             self.stats.commands += 1;
             *busy = true;
             self.answer(client, &text, arm);
+        }
+        if gone {
+            *busy = true;
+            return false;
         }
         if client.input.len() > MAX_LINE {
             client.input.clear();
@@ -257,7 +280,10 @@ impl C4gEmulator {
                     Err(e) => self.queue(client, &Reply::Err(ErrorCode::Alarm, e)),
                 }
             }
-            Command::Stop => self.queue(client, &Reply::Ok(Vec::new())),
+            Command::Stop => {
+                self.stats.stop_requests += 1;
+                self.queue(client, &Reply::Ok(Vec::new()));
+            }
             Command::Bye => {
                 self.queue(client, &Reply::Ok(Vec::new()));
                 client.input.clear();
@@ -329,8 +355,9 @@ impl C4gEmulator {
                 break;
             }
             if bytes.is_empty() {
+                // Hang up. Whether a motion was cut short is the caller's to judge from
+                // `moving` and what is still queued: after `BYE` nothing is.
                 let _ = client.stream.shutdown(std::net::Shutdown::Both);
-                client.moving = Some(client.moving.unwrap_or(0));
                 return false;
             }
             match client.stream.write(bytes) {
