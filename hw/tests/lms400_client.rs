@@ -20,6 +20,9 @@ const LINES_PER_STOP: usize = 40;
 const FIRST_TIME: f64 = 4294.9;
 const LINE_PERIOD: f64 = 1.0 / 190.0;
 const CLOCK_OFFSET: f64 = 2.5;
+/// Safety net of every wait whose outcome is not a timeout: generous, so that no test
+/// depends on how fast this machine is; a test that hangs fails after it.
+const SAFETY: Duration = Duration::from_secs(60);
 
 fn spec() -> LineScannerSpec {
     LineScannerSpec::lms400()
@@ -186,9 +189,9 @@ impl Harness {
         self.snapshot.lock().unwrap().clone()
     }
 
-    /// Waits (at most 5 s) until `condition` holds.
+    /// Waits until `condition` holds (failing after [`SAFETY`]).
     fn wait_for(&self, condition: impl Fn(&Snapshot) -> bool) {
-        let deadline = Instant::now() + Duration::from_secs(5);
+        let deadline = Instant::now() + SAFETY;
         while !condition(&self.snapshot()) {
             assert!(
                 Instant::now() < deadline,
@@ -235,7 +238,7 @@ fn assert_lines_match(lines: &[ScanLine], first: usize) {
 #[test]
 fn lines_round_trip_and_the_session_is_configured_from_the_spec() {
     let harness = Harness::start();
-    let mut scanner = Lms400Scanner::connect(harness.config(Duration::from_secs(2))).unwrap();
+    let mut scanner = Lms400Scanner::connect(harness.config(SAFETY)).unwrap();
     let snapshot = harness.snapshot();
     assert_eq!(snapshot.logins, 1);
     let applied = snapshot.scan_config.unwrap();
@@ -259,7 +262,7 @@ fn lines_round_trip_and_the_session_is_configured_from_the_spec() {
 #[test]
 fn garbage_before_telegrams_is_skipped() {
     let harness = Harness::start();
-    let mut scanner = Lms400Scanner::connect(harness.config(Duration::from_secs(2))).unwrap();
+    let mut scanner = Lms400Scanner::connect(harness.config(SAFETY)).unwrap();
     harness.set_faults(Lms400Faults {
         garbage_before_telegrams: true,
         ..Default::default()
@@ -271,7 +274,7 @@ fn garbage_before_telegrams_is_skipped() {
 #[test]
 fn a_bad_checksum_is_a_protocol_error() {
     let harness = Harness::start();
-    let mut scanner = Lms400Scanner::connect(harness.config(Duration::from_secs(2))).unwrap();
+    let mut scanner = Lms400Scanner::connect(harness.config(SAFETY)).unwrap();
     harness.set_faults(Lms400Faults {
         corrupt_checksum: true,
         ..Default::default()
@@ -286,7 +289,7 @@ fn a_bad_checksum_is_a_protocol_error() {
 #[test]
 fn a_disconnect_mid_telegram_fails_the_stop_and_the_next_call_reconnects() {
     let harness = Harness::start();
-    let mut scanner = Lms400Scanner::connect(harness.config(Duration::from_secs(2))).unwrap();
+    let mut scanner = Lms400Scanner::connect(harness.config(SAFETY)).unwrap();
     // A telegram of 281 beams is 894 bytes framed: cut inside the second one.
     harness.set_faults(Lms400Faults {
         disconnect_after_bytes: Some(1_000),
@@ -312,7 +315,7 @@ fn a_disconnect_mid_telegram_fails_the_stop_and_the_next_call_reconnects() {
 #[test]
 fn a_connection_dropped_between_calls_is_re_established_with_its_session() {
     let harness = Harness::start();
-    let mut scanner = Lms400Scanner::connect(harness.config(Duration::from_secs(2))).unwrap();
+    let mut scanner = Lms400Scanner::connect(harness.config(SAFETY)).unwrap();
     scanner.start().unwrap();
     assert_lines_match(&scanner.stop().unwrap(), 0);
     harness.drop_client.store(true, Ordering::SeqCst);
@@ -328,12 +331,15 @@ fn a_connection_dropped_between_calls_is_re_established_with_its_session() {
 #[test]
 fn a_slow_peer_times_out() {
     let harness = Harness::start();
-    let timeout = Duration::from_millis(100);
-    let mut scanner = Lms400Scanner::connect(harness.config(timeout)).unwrap();
+    // The session is set up with the safety net; then the replies are held far beyond the
+    // short timeout, so they cannot come in time however the threads are scheduled.
+    let mut scanner = Lms400Scanner::connect(harness.config(SAFETY)).unwrap();
     harness.set_faults(Lms400Faults {
-        delay_replies: Some(Duration::from_millis(400)),
+        delay_replies: Some(Duration::from_secs(3600)),
         ..Default::default()
     });
+    let timeout = Duration::from_millis(100);
+    scanner.set_timeout(timeout);
     assert!(matches!(
         scanner.start(),
         Err(RigError::Timeout { seconds, .. }) if seconds == 0.1
@@ -347,7 +353,7 @@ fn a_slow_peer_times_out() {
 #[test]
 fn a_refused_command_is_a_protocol_error_naming_the_code() {
     let harness = Harness::start();
-    let mut scanner = Lms400Scanner::connect(harness.config(Duration::from_secs(2))).unwrap();
+    let mut scanner = Lms400Scanner::connect(harness.config(SAFETY)).unwrap();
     harness.fail_start.store(true, Ordering::SeqCst);
     match scanner.start() {
         Err(RigError::Protocol { detail, .. }) => assert!(detail.contains("sFA 4"), "{detail}"),
@@ -359,7 +365,7 @@ fn a_refused_command_is_a_protocol_error_naming_the_code() {
 fn a_configuration_the_device_refuses_fails_the_connection() {
     let harness = Harness::start();
     for (line_rate_hz, fov_deg, status) in [(100.0, 70.0, "status 1"), (190.0, 80.0, "status 4")] {
-        let mut config = harness.config(Duration::from_secs(2));
+        let mut config = harness.config(SAFETY);
         config.spec.line_rate_hz = line_rate_hz;
         config.spec.fov = f64::to_radians(fov_deg);
         match Lms400Scanner::connect(config) {
@@ -372,19 +378,21 @@ fn a_configuration_the_device_refuses_fails_the_connection() {
 
 #[test]
 fn nothing_listening_is_a_disconnect() {
-    let address = {
-        let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-        listener.local_addr().unwrap().to_string()
-    };
+    // The port is held (listening on 127.0.0.1) for the whole test, so no other test's
+    // emulator can take it; nobody listens at 127.0.0.2 on it: connecting is refused.
+    let held = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = held.local_addr().unwrap().port();
     let config = Lms400Config {
-        address,
-        timeout: Duration::from_millis(200),
+        address: format!("127.0.0.2:{port}"),
+        timeout: SAFETY,
         ..Default::default()
     };
-    assert!(matches!(
-        Lms400Scanner::connect(config),
-        Err(RigError::Disconnected { .. })
-    ));
+    let result = Lms400Scanner::connect(config);
+    assert!(
+        matches!(result, Err(RigError::Disconnected { .. })),
+        "{result:?}"
+    );
+    drop(held);
 }
 
 #[test]
@@ -401,13 +409,20 @@ fn a_peer_that_is_no_scanner_fails_the_connection_cleanly() {
             let _ = stream.read(&mut request);
             let _ = stream.write_all(b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n");
             if !close {
-                // Keep the connection open until the client has given up.
-                let _ = wait.recv_timeout(Duration::from_secs(30));
+                // Keep the connection open until the client has given up (or the test
+                // failed and dropped the sender).
+                let _ = wait.recv();
             }
         });
+        // Open: the client can only time out (no frame ever comes), so the timeout may be
+        // short. Closed: the outcome is no timeout, so the safety net.
         let config = Lms400Config {
             address,
-            timeout: Duration::from_millis(200),
+            timeout: if close {
+                SAFETY
+            } else {
+                Duration::from_millis(200)
+            },
             reconnect_attempts: 1,
             ..Default::default()
         };
@@ -433,9 +448,7 @@ struct RawClient {
 impl RawClient {
     fn connect(address: &str) -> Self {
         let stream = TcpStream::connect(address).unwrap();
-        stream
-            .set_read_timeout(Some(Duration::from_secs(2)))
-            .unwrap();
+        stream.set_read_timeout(Some(SAFETY)).unwrap();
         Self {
             stream,
             decoder: FrameDecoder::new(),

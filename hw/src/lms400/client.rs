@@ -91,6 +91,16 @@ impl Lms400Scanner {
         &self.config
     }
 
+    /// Changes the longest wait for any answer or read from now on, on the live connection
+    /// and on those re-established later (e.g. a generous one while the session is set up,
+    /// a short one while streaming).
+    pub fn set_timeout(&mut self, timeout: std::time::Duration) {
+        self.config.timeout = timeout;
+        if let Some(link) = self.link.as_mut() {
+            link.set_timeout(timeout);
+        }
+    }
+
     /// The scan configuration sent to the device.
     pub fn scan_config(&self) -> ScanConfig {
         self.scan_config

@@ -98,6 +98,12 @@ impl Link {
         })
     }
 
+    /// Changes the timeout of later sends and receives.
+    pub(crate) fn set_timeout(&mut self, timeout: Duration) {
+        self.timeout = timeout;
+        let _ = self.stream.set_write_timeout(Some(timeout));
+    }
+
     /// Whether the reader has seen the connection end.
     pub(crate) fn is_closed(&self) -> bool {
         self.closed.load(Ordering::SeqCst)
