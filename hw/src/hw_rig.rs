@@ -4,8 +4,8 @@
 
 use crate::comau::C4gArm;
 use crate::dinast::{
-    ChannelTransport, ControlSetup, DinastCamera, DinastConfig, DinastTransport, TransportError,
-    UsbTransport,
+    CONTROL_TIMEOUT, ChannelTransport, ControlSetup, DinastCamera, DinastConfig, DinastTransport,
+    TransportError, UsbTransport,
 };
 use crate::lms400::{Lms400Config, Lms400Scanner};
 use crate::rig_file::RigFile;
@@ -102,8 +102,16 @@ impl HwRig {
                 }
             })?),
         };
+        let timeout = Duration::from_secs_f64(rig.camera.timeout_s);
+        // A device on USB answers a control transfer within the vendor's timeout; the
+        // emulated one when the emulator thread gets to it: the frame timeout, if longer.
+        let control_timeout = match &transport {
+            CameraTransport::Usb(_) => CONTROL_TIMEOUT,
+            CameraTransport::Emulated(_) => CONTROL_TIMEOUT.max(timeout),
+        };
         let config = DinastConfig {
-            timeout: Duration::from_secs_f64(rig.camera.timeout_s),
+            timeout,
+            control_timeout,
             clock_offset: rig.camera.clock_offset_s,
             ..DinastConfig::new(camera)
         };

@@ -31,6 +31,10 @@ fn resampling_angle(spec: &DepthCameraSpec) -> f64 {
     epsilon * (1.0 + 1.0 / cos_corner)
 }
 
+/// Safety net of every wait whose outcome is not a timeout: generous, so that no test
+/// depends on how fast this machine is; a test that hangs fails after it.
+const SAFETY: Duration = Duration::from_secs(60);
+
 fn spec() -> DepthCameraSpec {
     DepthCameraSpec::ipa1110()
 }
@@ -341,11 +345,12 @@ fn serve(
 
 #[test]
 fn camera_over_the_channel_transport_captures_and_stops() {
-    let (transport, device_end) = channel_transport(Duration::from_secs(5));
+    let (transport, device_end) = channel_transport(SAFETY);
     let stop = Arc::new(AtomicBool::new(false));
     let server = serve(device_end, DinastFaults::default(), Arc::clone(&stop));
     let mut config = DinastConfig::new(spec());
-    config.timeout = Duration::from_secs(5);
+    config.timeout = SAFETY;
+    config.control_timeout = SAFETY;
     let mut camera = DinastCamera::open(transport, config).unwrap();
     let frame = camera.capture().unwrap();
     let centre = frame.depth[120 * 320 + 160];
@@ -357,11 +362,12 @@ fn camera_over_the_channel_transport_captures_and_stops() {
 
 #[test]
 fn dropped_device_end_is_a_disconnection() {
-    let (transport, device_end) = channel_transport(Duration::from_secs(5));
+    let (transport, device_end) = channel_transport(SAFETY);
     let stop = Arc::new(AtomicBool::new(false));
     let server = serve(device_end, DinastFaults::default(), Arc::clone(&stop));
     let mut config = DinastConfig::new(spec());
-    config.timeout = Duration::from_secs(5);
+    config.timeout = SAFETY;
+    config.control_timeout = SAFETY;
     let mut camera = DinastCamera::open(transport, config).unwrap();
     camera.capture().unwrap();
     stop.store(true, Ordering::Relaxed);
@@ -381,18 +387,26 @@ fn device_end_that_never_answers_is_a_timeout() {
 
 #[test]
 fn silent_device_behind_the_channel_is_a_timeout() {
-    let (transport, device_end) = channel_transport(Duration::from_millis(200));
+    let (transport, device_end) = channel_transport(SAFETY);
     let stop = Arc::new(AtomicBool::new(false));
     let faults = DinastFaults {
         silent_after_reads: Some(1),
         ..DinastFaults::default()
     };
     let server = serve(device_end, faults, Arc::clone(&stop));
+    // Opening and the first frame have the safety net; the device then never answers, so
+    // the short timeouts cannot expire early whatever the scheduling.
     let mut config = DinastConfig::new(spec());
-    config.timeout = Duration::from_millis(200);
+    config.timeout = SAFETY;
+    config.control_timeout = SAFETY;
     let mut camera = DinastCamera::open(transport, config).unwrap();
     camera.capture().unwrap();
-    assert!(matches!(camera.capture(), Err(RigError::Timeout { .. })));
+    camera.set_timeouts(Duration::from_millis(200), Duration::from_millis(200));
+    let result = camera.capture();
+    assert!(
+        matches!(result, Err(RigError::Timeout { seconds, .. }) if seconds == 0.2),
+        "{result:?}"
+    );
     drop(camera); // the stop request times out too: dropping must not hang
     stop.store(true, Ordering::Relaxed);
     server.join().unwrap();

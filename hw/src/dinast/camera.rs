@@ -28,6 +28,10 @@ pub struct DinastConfig {
     pub spec: DepthCameraSpec,
     /// Timeout of each bulk read.
     pub timeout: Duration,
+    /// Timeout of each control transfer (start, stop, firmware version): the vendor
+    /// driver's [`CONTROL_TIMEOUT`] for a device on USB; an emulated device answers when
+    /// its thread gets to it, so it may need more.
+    pub control_timeout: Duration,
     /// Bulk reads a capture may take before giving up with a timeout.
     pub max_reads_per_frame: usize,
     /// Added to the host time since opening to give the rig time of a frame, seconds.
@@ -37,7 +41,8 @@ pub struct DinastConfig {
 }
 
 impl DinastConfig {
-    /// Defaults: 1 s per read, 4 reads per frame, no clock offset, device `dinast`.
+    /// Defaults: 1 s per read, [`CONTROL_TIMEOUT`] per control transfer, 4 reads per
+    /// frame, no clock offset, device `dinast`.
     ///
     /// ```
     /// use nbv_core::rig::DepthCameraSpec;
@@ -49,6 +54,7 @@ impl DinastConfig {
         Self {
             spec,
             timeout: Duration::from_secs(1),
+            control_timeout: CONTROL_TIMEOUT,
             max_reads_per_frame: 4,
             clock_offset: 0.0,
             device: "dinast".into(),
@@ -109,13 +115,17 @@ impl<T: DinastTransport> DinastCamera<T> {
     pub fn open(mut transport: T, config: DinastConfig) -> Result<Self, RigError> {
         let mut answer = [0u8; FIRMWARE_VERSION_LEN];
         let read = transport
-            .control_in(firmware_version_setup(), &mut answer, CONTROL_TIMEOUT)
-            .map_err(|e| transport_error(&config.device, e, CONTROL_TIMEOUT))?;
+            .control_in(
+                firmware_version_setup(),
+                &mut answer,
+                config.control_timeout,
+            )
+            .map_err(|e| transport_error(&config.device, e, config.control_timeout))?;
         if read == 0 {
             return Err(protocol_error(&config.device, "empty firmware version"));
         }
         let firmware_version = firmware_version_text(answer.get(..read).unwrap_or_default());
-        send_one_byte(&mut transport, &config.device, true)?;
+        send_one_byte(&mut transport, &config, true)?;
         tracing::debug!(device = %config.device, %firmware_version, "Dinast camera streaming");
         Ok(Self {
             resampler: PinholeResampler::new(&config.spec),
@@ -137,6 +147,13 @@ impl<T: DinastTransport> DinastCamera<T> {
     /// The driver's settings.
     pub fn config(&self) -> &DinastConfig {
         &self.config
+    }
+
+    /// Changes the timeouts of each bulk read and of each control transfer from now on
+    /// (e.g. generous ones while the device is opened, short ones once the stream runs).
+    pub fn set_timeouts(&mut self, bulk: Duration, control: Duration) {
+        self.config.timeout = bulk;
+        self.config.control_timeout = control;
     }
 
     /// What the packet decoder has seen since opening.
@@ -183,7 +200,7 @@ impl<T: DinastTransport> DinastCamera<T> {
             return Ok(());
         }
         self.streaming = false;
-        send_one_byte(&mut self.transport, &self.config.device, false)
+        send_one_byte(&mut self.transport, &self.config, false)
     }
 }
 
@@ -216,13 +233,14 @@ impl<T: DinastTransport> Drop for DinastCamera<T> {
 /// Sends start (`true`) or stop (`false`).
 fn send_one_byte<T: DinastTransport>(
     transport: &mut T,
-    device: &str,
+    config: &DinastConfig,
     start: bool,
 ) -> Result<(), RigError> {
+    let device = config.device.as_str();
     let setup = if start { start_setup() } else { stop_setup() };
     let written = transport
-        .control_out(setup, &[0x01], CONTROL_TIMEOUT)
-        .map_err(|e| transport_error(device, e, CONTROL_TIMEOUT))?;
+        .control_out(setup, &[0x01], config.control_timeout)
+        .map_err(|e| transport_error(device, e, config.control_timeout))?;
     if written != 1 {
         return Err(protocol_error(
             device,

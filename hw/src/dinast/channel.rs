@@ -5,17 +5,20 @@
 //! Each call carries its own reply channel and deadline. The transport waits for the
 //! answer until the call's timeout (capped by the channel's); no answer in time is
 //! [`TransportError::Timeout`], a dropped [`DeviceEnd`] is [`TransportError::NoDevice`]
-//! ("unplugged"). The device end skips calls whose deadline has passed.
+//! ("unplugged"). The device end skips calls whose deadline has passed. A call the device
+//! leaves unanswered (a silent device) keeps its reply channel open for as long as the
+//! device end lives, so its host sees a timeout and never an unplug, however late it looks.
 
 use super::emulator::{DinastEmulator, UsbReply, UsbRequest};
 use super::transport::{ControlSetup, DinastTransport, TransportError};
 use nbv_core::rig::DepthCamera;
+use std::collections::VecDeque;
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender, SyncSender, TryRecvError};
 use std::time::{Duration, Instant};
 
-/// Grace period after a call's deadline during which a silent call's reply channel is
-/// kept open, so that the host sees a timeout and not an unplug.
-const SILENT_GRACE: Duration = Duration::from_secs(1);
+/// Reply channels of unanswered calls kept open (the newest ones): a host waits for one
+/// call at a time, so older ones have long been given up.
+const MAX_SILENT: usize = 16;
 
 #[derive(Debug)]
 struct Call {
@@ -35,8 +38,8 @@ pub struct ChannelTransport {
 #[derive(Debug)]
 pub struct DeviceEnd {
     calls: Receiver<Call>,
-    /// Reply channels of calls the device left unanswered, with their expiry.
-    silent: Vec<(Instant, SyncSender<UsbReply>)>,
+    /// Reply channels of calls the device left unanswered, newest last.
+    silent: VecDeque<SyncSender<UsbReply>>,
 }
 
 /// A connected pair; the transport never waits longer than `max_wait` for an answer.
@@ -56,7 +59,7 @@ pub fn channel_transport(max_wait: Duration) -> (ChannelTransport, DeviceEnd) {
         ChannelTransport { calls, max_wait },
         DeviceEnd {
             calls: receiver,
-            silent: Vec::new(),
+            silent: VecDeque::new(),
         },
     )
 }
@@ -115,8 +118,6 @@ impl DeviceEnd {
     /// Answers every pending call with `emulator` (backed by `camera`) without blocking;
     /// returns whether there was any.
     pub fn poll(&mut self, emulator: &mut DinastEmulator, camera: &mut dyn DepthCamera) -> bool {
-        let now = Instant::now();
-        self.silent.retain(|(expiry, _)| *expiry > now);
         let mut worked = false;
         loop {
             let call = match self.calls.try_recv() {
@@ -128,7 +129,12 @@ impl DeviceEnd {
                 continue; // the host has given up
             }
             match emulator.handle(call.request, camera) {
-                UsbReply::Silent => self.silent.push((call.deadline + SILENT_GRACE, call.reply)),
+                UsbReply::Silent => {
+                    if self.silent.len() == MAX_SILENT {
+                        self.silent.pop_front();
+                    }
+                    self.silent.push_back(call.reply);
+                }
                 reply => {
                     // The host may have just timed out; then nobody listens.
                     let _ = call.reply.send(reply);
