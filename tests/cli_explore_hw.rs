@@ -98,23 +98,29 @@ fn a_bad_rig_file_or_a_silent_rig_fails_clearly_without_output() {
         "{err}"
     );
 
-    // Nobody listens at these ports (bound then released): a clear disconnection.
-    let free = || {
-        let l = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-        l.local_addr().unwrap().to_string()
-    };
+    // Nobody listens at these addresses: a clear disconnection. Each port is held (listening
+    // on 127.0.0.1) for the whole test, so no emulator of another test can take it; the rig
+    // names it at 127.0.0.2, where nobody listens, so connecting is refused. The timeout is
+    // a safety net: the expected outcome is no timeout.
+    let held: Vec<_> = (0..2)
+        .map(|_| std::net::TcpListener::bind("127.0.0.1:0").unwrap())
+        .collect();
+    let unanswered: Vec<String> = held
+        .iter()
+        .map(|l| format!("127.0.0.2:{}", l.local_addr().unwrap().port()))
+        .collect();
     let silent = dir.path().join("silent.toml");
     std::fs::write(
         &silent,
         format!(
-            "[arm]\naddress = \"{}\"\nconnect_attempts = 1\ntimeout_s = 0.5\n[laser]\naddress = \"{}\"\n",
-            free(),
-            free()
+            "[arm]\naddress = \"{}\"\nconnect_attempts = 1\ntimeout_s = 600\n[laser]\naddress = \"{}\"\n",
+            unanswered[0], unanswered[1]
         ),
     )
     .unwrap();
     let err = failing_hw_run(&silent, &out);
     assert!(err.contains("c4g: disconnected"), "{err}");
+    drop(held);
 
     // --backend hw needs a rig file.
     let run = nbv(&[
