@@ -341,6 +341,27 @@ fn the_server_answers_bye_and_hangs_up_without_a_stop() {
 }
 
 #[test]
+fn a_client_lost_during_a_motion_is_a_stop() {
+    // The motion's samples are held an hour, so the client is certainly gone while the
+    // motion is still streaming, however the threads are scheduled.
+    use std::io::Write;
+    let faults = C4gFaults {
+        reply_delay: Some(Duration::from_secs(3600)),
+        ..C4gFaults::default()
+    };
+    let h = Harness::start(Joints::zeros(), faults);
+    let mut stream = std::net::TcpStream::connect(&h.address).unwrap();
+    stream.write_all(b"MOVE 10 0 0 0 0 0\n").unwrap();
+    drop(stream);
+    let (stats, _) = h.finish_after(1);
+    assert_eq!(stats.motions, 1);
+    assert_eq!(
+        stats.stops, 1,
+        "the PDL2 server cancels the motion of a lost client"
+    );
+}
+
+#[test]
 fn a_connection_lost_mid_motion_is_reported_and_the_next_call_reconnects() {
     let start = Joints::zeros();
     let faults = C4gFaults {
