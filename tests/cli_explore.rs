@@ -58,19 +58,27 @@ fn hybrid_explores_the_object_and_beats_the_laser_alone() {
     assert!(precision > 0.8 && precision <= 1.0, "precision {precision}");
     // Errors against the truth are measured for every method; alignment is below the
     // point error, which adds the Dinast's centimetre noise. A registration fails when it
-    // does not converge or leaves more than 1 cm of alignment error; sequential ICP, whose
-    // pairwise errors add up along the chain, may.
-    for key in ["error_unregistered", "error_gpa", "error_icp"] {
+    // does not converge or leaves more than 1 cm of alignment error; the paper's p-ICP-GPA
+    // and sequential ICP, which have no prior, may.
+    for key in ["error_unregistered", "error_gpa", "error_pgpa", "error_icp"] {
         let e = &o[key];
         let alignment = f(&e["alignment"]);
         assert!(alignment > 0.0 && alignment.is_finite(), "{key}: {e}");
-        if key != "error_icp" {
-            assert!(alignment < 0.05, "{key}: {e}");
-        }
         assert!(f(&e["mean"]) > alignment * 0.5, "{key}: {e}");
         let failed = e["converged"] == false || alignment > 0.01;
         assert_eq!(e["failed"], failed, "{key}: {e}");
     }
+    // The model's registration (MAP, with the workcell-aligned laser cluster as anchor)
+    // is accepted and leaves well under the misalignment the views were acquired with
+    // (measured on this horse: 5.5 -> 2.8 mm; the paper scenes' objects reach 0.2-0.4x).
+    let (acquired, map) = (
+        f(&o["error_unregistered"]["alignment"]),
+        f(&o["error_gpa"]["alignment"]),
+    );
+    assert_eq!(o["error_gpa"]["accepted"], true, "{o:#}");
+    assert!(map <= 0.6 * acquired, "map {map} vs acquired {acquired}");
+    assert_eq!(o["registration"]["accepted"], true);
+    assert_eq!(r["workcell_alignment"]["accepted"], true, "{r:#}");
     assert_eq!(r["totals"]["views"].as_u64().unwrap() as usize, views.len());
 
     // Files: the phase-1 cloud, both grids, the model and one file per view.

@@ -19,7 +19,7 @@ use registration_data::{
 fn gpa_report(r: &Registration) -> &GpaReport {
     match &r.report {
         MethodReport::Gpa(g) => g,
-        MethodReport::SequentialIcp(_) => panic!("not a GPA report"),
+        _ => panic!("not a GPA report"),
     }
 }
 
@@ -376,6 +376,7 @@ fn views_without_overlap_report_non_convergence() {
                 assert_eq!(r.pairs.len(), 1);
                 assert_eq!(r.pairs[0].icp.stop, StopReason::NoCorrespondences);
             }
+            MethodReport::Map(_) => unreachable!("not run here"),
         }
     }
     // Two overlapping pairs far apart: GPA registers each pair but reports that views

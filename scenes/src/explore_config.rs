@@ -5,9 +5,13 @@
 use crate::error::{Problem, SceneError};
 use crate::scene::Scene;
 use nbv_core::kinematics::Joints;
-use nbv_core::pipeline::{ExploreConfig, ExploreMode, TableFilter};
+use nbv_core::pipeline::{ExploreConfig, ExploreMode, PoseUncertainty, TableFilter};
 use nbv_core::planning::{Obstacle, ObstacleShape, PlannerConfig};
-use nbv_core::registration::RegistrationParams;
+use nbv_core::registration::{PosePrior, RangeNoise, RegistrationParams};
+
+/// Distance (m) from each joint's axis to the sensors, roughly, over the arm's working
+/// poses: a joint offset of δ rad moves the sensors by about δ times this.
+pub const JOINT_LEVERS: [f64; 6] = [1.2, 1.0, 0.7, 0.2, 0.2, 0.1];
 
 /// Height (m) of the camera above the table top during the short-only survey: the Dinast
 /// (0.1–0.8 m) sees the table and objects up to 0.35 m tall from there.
@@ -53,6 +57,51 @@ impl Scene {
             }
         }
         poses
+    }
+
+    /// The rig's sensor noise and pose uncertainty as the scene's `[sensors]` and
+    /// `[errors]` state them (its `scale` applied), for the MAP registration.
+    ///
+    /// Per component: the hand-eye error's components are taken as σ (σ² = |xyz|²/3 and
+    /// |rpy|²/3), the reported pose's noise as stated (its rotation, an angle about a random
+    /// axis, spread over three components), averaged over `[nbv] frames_per_view` frames
+    /// for a camera view; each joint offset turns the sensor by itself and moves it by
+    /// itself times the joint's lever to the sensor ([`JOINT_LEVERS`]). A floor of 0.1 mm
+    /// and 0.006° keeps a scene without errors well posed.
+    pub fn pose_uncertainty(&self) -> PoseUncertainty {
+        let e = &self.errors;
+        let sq = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>();
+        let (xyz, rpy) = e.scaled_hand_eye();
+        let (noise_t, noise_r) = e.scaled_pose_noise();
+        let joints = e.scaled_joint_offsets();
+        let joint_r = sq(&joints) / 3.0;
+        let joint_t = joints
+            .iter()
+            .zip(JOINT_LEVERS)
+            .map(|(q, l)| (q * l).powi(2))
+            .sum::<f64>()
+            / 3.0;
+        let frames = f64::from(self.nbv.frames_per_view.max(1));
+        let prior = |r2: f64, t2: f64| PosePrior {
+            rotation_sigma: r2.sqrt().max(1e-4),
+            translation_sigma: t2.sqrt().max(1e-4),
+        };
+        let n = &self.sensors.short_range.noise;
+        PoseUncertainty {
+            laser_noise: RangeNoise::constant(self.sensors.mid_range.noise.range_sigma.max(1e-5)),
+            camera_noise: RangeNoise {
+                sigma_at_1m: n.range_sigma_at_1m.max(1e-5),
+                exponent: n.range_sigma_exponent,
+            },
+            laser_pose: prior(
+                noise_r * noise_r / 3.0 + joint_r,
+                noise_t * noise_t + joint_t,
+            ),
+            camera_pose: prior(
+                sq(&rpy) / 3.0 + noise_r * noise_r / (3.0 * frames) + joint_r,
+                sq(&xyz) / 3.0 + noise_t * noise_t / frames + joint_t,
+            ),
+        }
     }
 
     /// The camera's noise model, averaged over `[nbv] frames_per_view` frames, as the
@@ -154,6 +203,8 @@ impl Scene {
                 tolerance: self.registration.tolerance,
                 ..RegistrationParams::default()
             },
+            uncertainty: self.pose_uncertainty(),
+            align_to_workcell: self.registration.align_to_workcell,
             registration_points: self.registration.points_per_view as usize,
             max_correction: (
                 self.registration.max_correction_deg.to_radians(),

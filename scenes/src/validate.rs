@@ -511,7 +511,8 @@ fn parameters(s: &Scene, c: &Check) -> Result<(), SceneError> {
         0.0,
         90.0,
         "[0, 90] degrees",
-    )
+    )?;
+    c.within("errors.scale", e.scale, 0.0, 100.0, "[0, 100]")
 }
 
 /// The robot's URDF loads as a kinematic model with closed-form IK, carries both sensor

@@ -131,8 +131,14 @@ pub struct ObjectEntry {
     pub coverage_icp: Option<f64>,
     /// Mean point error of the views as acquired (no registration).
     pub error_unregistered: Option<RegistrationScore>,
-    /// p-ICP-GPA.
+    /// The method the model uses: the MAP registration (noise-weighted, with the rig's
+    /// pose prior).
     pub error_gpa: Option<RegistrationScore>,
+    /// The paper's p-ICP-GPA.
+    pub error_pgpa: Option<RegistrationScore>,
+    /// The MAP registration in detail: the verdict, per view the correction, its χ² and
+    /// whether it was held at the prior.
+    pub registration: Option<nbv_core::registration::MapReport>,
     /// Sequential ICP.
     pub error_icp: Option<RegistrationScore>,
     /// Registration failure message, if any.
@@ -181,10 +187,45 @@ pub struct ExploreReport {
     pub objects: Vec<ObjectEntry>,
     /// Scene objects that no cluster was matched to.
     pub missed_objects: Vec<String>,
+    /// The laser sweep's correction from the known workcell, when it ran.
+    pub workcell_alignment: Option<WorkcellEntry>,
+    /// The depth camera's hand-eye correction estimated from the registrations, beside
+    /// the twin's injected error.
+    pub hand_eye: Option<HandEyeEntry>,
     /// Totals.
     pub totals: Totals,
     /// The configuration used (the scene file's sections).
     pub config: serde_json::Value,
+}
+
+/// The sweep's correction from the workcell ([`nbv_core::perception::align_to_workcell`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct WorkcellEntry {
+    /// Whether it was applied.
+    pub accepted: bool,
+    /// Its rotation (degrees) and the displacement of the laser (m).
+    pub rotation_deg: f64,
+    /// Displacement of the laser's mean position (m).
+    pub translation: f64,
+    /// Points on known surfaces.
+    pub inliers: usize,
+    /// RMS residual of those points (m).
+    pub rms: f64,
+    /// χ² under the sweep's prior.
+    pub chi2: f64,
+}
+
+/// The hand-eye estimate and the truth it estimates.
+#[derive(Debug, Clone, Serialize)]
+pub struct HandEyeEntry {
+    /// The estimate (sensor frame): rotation vector (rad), translation (m), σ, views.
+    pub estimate: nbv_core::pipeline::HandEyeEstimate,
+    /// The twin's injected hand-eye error: rotation vector (rad) and translation (m).
+    pub truth: Option<[f64; 6]>,
+    /// Angle (degrees) between estimate and truth.
+    pub rotation_error_deg: Option<f64>,
+    /// Distance (m) between estimate and truth.
+    pub translation_error: Option<f64>,
 }
 
 /// Totals over the objects.
@@ -231,7 +272,7 @@ impl ExploreReport {
                 })
             };
             s += &format!(
-                "  {:<12} views {:>2}  failed {:>2}  coverage {:>5}  alignment as acquired {:>7}  gpa {:>7}  icp {:>7}  ({})\n",
+                "  {:<12} views {:>2}  failed {:>2}  coverage {:>5}  alignment as acquired {:>7}  map {:>7}  p-icp-gpa {:>7}  icp {:>7}  ({})\n",
                 o.name,
                 o.views.len(),
                 o.viewpoints_failed.len(),
@@ -239,13 +280,61 @@ impl ExploreReport {
                     .map_or("-".into(), |c| format!("{:.1}%", c * 100.0)),
                 mm(&o.error_unregistered),
                 mm(&o.error_gpa),
+                mm(&o.error_pgpa),
                 mm(&o.error_icp),
                 o.stop
             );
         }
+        if let Some(w) = &self.workcell_alignment {
+            s += &format!(
+                "  laser sweep aligned to the workcell: {} ({:.2}° and {:.1} mm, {} points on known surfaces, rms {:.1} mm)\n",
+                if w.accepted {
+                    "corrected"
+                } else {
+                    "NOT corrected"
+                },
+                w.rotation_deg,
+                w.translation * 1e3,
+                w.inliers,
+                w.rms * 1e3
+            );
+        }
+        if let Some(h) = &self.hand_eye {
+            let e = &h.estimate;
+            let deg = |v: [f64; 3]| v.map(f64::to_degrees);
+            let r = deg(e.rotation);
+            let mut line = format!(
+                "  hand-eye estimate from {} views: rotation [{:.2}, {:.2}, {:.2}]° translation [{:.1}, {:.1}, {:.1}] mm",
+                e.views,
+                r[0],
+                r[1],
+                r[2],
+                e.translation[0] * 1e3,
+                e.translation[1] * 1e3,
+                e.translation[2] * 1e3
+            );
+            if let (Some(t), Some(dr), Some(dt)) =
+                (h.truth, h.rotation_error_deg, h.translation_error)
+            {
+                line += &format!(
+                    "; injected [{:.2}, {:.2}, {:.2}]° [{:.1}, {:.1}, {:.1}] mm: off by {:.2}° and {:.1} mm",
+                    t[0].to_degrees(),
+                    t[1].to_degrees(),
+                    t[2].to_degrees(),
+                    t[3] * 1e3,
+                    t[4] * 1e3,
+                    t[5] * 1e3,
+                    dr,
+                    dt * 1e3
+                );
+            }
+            s += &line;
+            s += "\n";
+        }
         s += "  (alignment: mean displacement of the true points by each view's misalignment; \
-              ! = rejected, not converged or a correction beyond [registration] \
-              max_correction_*: the model keeps the reported poses)\n";
+              map = the model's registration; ! = rejected (map: not converged or the \
+              objective did not fall; p-icp-gpa, icp: not converged or a correction beyond \
+              [registration] max_correction_*): the model keeps the reported poses)\n";
         s
     }
 }
@@ -297,14 +386,22 @@ pub fn evaluate(
                 failed: !converged || a.mean > FAILED_REGISTRATION_ERROR,
             })
         };
-        let (error_unregistered, error_gpa, error_icp) = match &object.registration {
+        let (error_unregistered, error_gpa, error_pgpa, error_icp) = match &object.registration {
             Some(r) => (
                 score(&vec![Pose::identity(); r.views.len()], true, true, &r.views),
+                score(&r.map.poses, r.map.converged, r.map_accepted, &r.views),
                 score(&r.gpa.poses, r.gpa.converged, r.gpa_accepted, &r.views),
                 score(&r.icp.poses, r.icp.converged, r.icp_accepted, &r.views),
             ),
-            None => (None, None, None),
+            None => (None, None, None, None),
         };
+        let map_report = object
+            .registration
+            .as_ref()
+            .and_then(|r| match &r.map.report {
+                nbv_core::registration::MethodReport::Map(m) => Some((**m).clone()),
+                _ => None,
+            });
         let model = object.model();
         objects.push(ObjectEntry {
             name,
@@ -331,6 +428,8 @@ pub fn evaluate(
             }),
             error_unregistered,
             error_gpa,
+            error_pgpa,
+            registration: map_report,
             error_icp,
             registration_error: object.registration_error.clone(),
             times: Times::from(&object.times),
@@ -395,6 +494,23 @@ pub fn evaluate(
             .filter(|(_, m)| !**m)
             .map(|(o, _)| o.name.clone())
             .collect(),
+        workcell_alignment: p.workcell.as_ref().map(|a| {
+            let laser = p.cloud.origins.as_ref().and_then(|o| o.first().copied());
+            WorkcellEntry {
+                accepted: a.accepted,
+                rotation_deg: a.estimate.rotation.angle().to_degrees(),
+                translation: laser.map_or(a.estimate.translation.vector.norm(), |o| {
+                    (a.estimate * o - o).norm()
+                }),
+                inliers: a.inliers,
+                rms: a.rms,
+                chi2: a.chi2,
+            }
+        }),
+        hand_eye: exploration
+            .hand_eye
+            .as_ref()
+            .map(|e| hand_eye_entry(scene, e)),
         totals,
         config: config_json(scene, config),
     })
@@ -491,4 +607,21 @@ fn config_json(scene: &Scene, config: &ExploreConfig) -> serde_json::Value {
         "coverage_tolerance": COVERAGE_TOLERANCE,
         "failed_registration_error": FAILED_REGISTRATION_ERROR,
     })
+}
+
+/// The hand-eye estimate beside the scene's injected error (the twin's truth).
+fn hand_eye_entry(scene: &Scene, estimate: &nbv_core::pipeline::HandEyeEstimate) -> HandEyeEntry {
+    let (xyz, rpy) = scene.errors.scaled_hand_eye();
+    let truth = nbv_core::math::pose_from_xyz_rpy(xyz, rpy);
+    let w = truth.rotation.scaled_axis();
+    let est_rotation =
+        nalgebra::UnitQuaternion::from_scaled_axis(nalgebra::Vector3::from(estimate.rotation));
+    HandEyeEntry {
+        estimate: estimate.clone(),
+        truth: Some([w.x, w.y, w.z, xyz[0], xyz[1], xyz[2]]),
+        rotation_error_deg: Some(est_rotation.angle_to(&truth.rotation).to_degrees()),
+        translation_error: Some(
+            (nalgebra::Vector3::from(estimate.translation) - truth.translation.vector).norm(),
+        ),
+    }
 }

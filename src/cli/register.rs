@@ -11,7 +11,10 @@ use nbv_core::cloud::io::{
     write_ply,
 };
 use nbv_core::math::Pose;
-use nbv_core::registration::{Method, MethodReport, RegistrationParams, SetRule, register};
+use nbv_core::registration::{
+    Method, MethodReport, PosePrior, RangeNoise, RegistrationParams, SetRule, ViewModel,
+    register_with_models,
+};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -72,6 +75,15 @@ pub struct RegisterArgs {
     /// Cap on iterations (sequential ICP: per pair).
     #[arg(long, value_name = "N", default_value_t = 300)]
     max_iterations: usize,
+    /// map: the prior on every non-reference view's initial pose, as
+    /// "DEGREES,METRES" (σ of each rotation and translation component, about the view's
+    /// sensor origin or centroid); without it the poses follow the data alone.
+    #[arg(long, value_name = "DEG,METRES", value_parser = parse_pose_sigma)]
+    pose_sigma: Option<PosePrior>,
+    /// map: the range noise σ of every view's points (metres), isotropic unless the
+    /// views carry sensor origins.
+    #[arg(long, value_name = "METRES", default_value_t = 0.002)]
+    range_sigma: f64,
     /// p-ICP-GPA: how the mutual-nearest-neighbour graph becomes independent sets.
     #[arg(long, value_enum, default_value_t = SetRuleArg::Cliques)]
     set_rule: SetRuleArg,
@@ -104,6 +116,9 @@ enum SetRuleArg {
 enum MethodArg {
     /// p-ICP-GPA: all views at once (paper, Figure 4).
     Gpa,
+    /// Maximum a posteriori: all views at once, residuals weighted by the range noise,
+    /// optionally a prior on each initial pose (--pose-sigma).
+    Map,
     /// Sequential point-to-point ICP: view h onto view h−1, chained.
     Icp,
     /// Sequential point-to-plane ICP.
@@ -114,6 +129,7 @@ impl MethodArg {
     fn method(self) -> Method {
         match self {
             Self::Gpa => Method::Gpa,
+            Self::Map => Method::Map,
             Self::Icp => Method::SequentialIcp {
                 point_to_plane: false,
             },
@@ -126,6 +142,7 @@ impl MethodArg {
     fn name(self) -> &'static str {
         match self {
             Self::Gpa => "p-ICP-GPA",
+            Self::Map => "MAP registration",
             Self::Icp => "sequential ICP (point-to-point)",
             Self::IcpPlane => "sequential ICP (point-to-plane)",
         }
@@ -181,6 +198,17 @@ pub fn run(args: RegisterArgs) -> Result<ExitCode> {
         ..RegistrationParams::default()
     };
     params.validate().context("bad option")?;
+    let model = ViewModel {
+        noise: RangeNoise::constant(args.range_sigma),
+        prior: args.pose_sigma,
+    };
+    if !model.noise.is_valid() {
+        bail!(
+            "--range-sigma must be finite and > 0, got {}",
+            args.range_sigma
+        );
+    }
+    let models = vec![model; views.len()];
 
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
@@ -188,7 +216,7 @@ pub fn run(args: RegisterArgs) -> Result<ExitCode> {
         .context("cannot start the worker threads")?;
     let start = Instant::now();
     let registration = pool
-        .install(|| register(&views, &initial, &params))
+        .install(|| register_with_models(&views, &initial, &models, &params))
         .map_err(|e| anyhow!(name_view(&e.to_string(), &args.views)))?;
     let elapsed = start.elapsed();
     let model = registration.merged(&views)?;
@@ -222,6 +250,10 @@ pub fn run(args: RegisterArgs) -> Result<ExitCode> {
         .rms
         .map_or("-".to_string(), |r| format!("{:.3} mm", r * 1e3));
     let detail = match &registration.report {
+        MethodReport::Map(m) => format!(
+            "{} steps, {} correspondences, stop: {:?}; {}",
+            m.iterations, m.inliers, m.stop, m.verdict
+        ),
         MethodReport::Gpa(g) => format!(
             "{} iterations, {} independent sets, stop: {:?}{}",
             g.iterations,
@@ -270,6 +302,26 @@ pub fn run(args: RegisterArgs) -> Result<ExitCode> {
         eprintln!("warning: the registration did not converge; the poses may be wrong");
         Ok(ExitCode::from(NOT_CONVERGED))
     }
+}
+
+/// Parses `--pose-sigma DEG,METRES`.
+fn parse_pose_sigma(text: &str) -> Result<PosePrior, String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let [deg, m] = parts[..] else {
+        return Err(format!(
+            "expected DEGREES,METRES (e.g. 0.5,0.004), got {text:?}"
+        ));
+    };
+    let number = |s: &str, what: &str| {
+        s.parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite() && *v > 0.0)
+            .ok_or_else(|| format!("{what} {s:?} is not a positive number"))
+    };
+    Ok(PosePrior {
+        rotation_sigma: number(deg, "rotation σ")?.to_radians(),
+        translation_sigma: number(m, "translation σ")?,
+    })
 }
 
 /// The file name of every view (the keys of the pose files); names must be distinct.

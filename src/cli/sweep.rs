@@ -380,24 +380,31 @@ fn summary_text(s: &Summary, out: &Path, plots: &[String]) -> String {
         })
     };
     t += &format!(
-        "best by coverage gain per view: {}\nbest by p-ICP-GPA error: {}\n",
+        "best by coverage gain per view: {}\nbest by registration error (the model's): {}\n",
         setting(&s.best_by_coverage_per_view),
         setting(&s.best_by_registration_error)
     );
     if !s.registration.is_empty() {
-        t += "registration (alignment error, mm: mean (std); failures):\n";
-        t += "  object        n   p-ICP-GPA        ICP              failures GPA/ICP\n";
+        t += "registration (alignment error, mm: median / 95th percentile; the model's is the \
+              MAP registration; failures; worse than as acquired by > 0.5 mm; unconverged):\n";
+        t += "  level object        n   acquired      map           p-ICP-GPA     ICP          \
+              fail map/pGPA/ICP  worse  unconv\n";
         for l in &s.registration {
+            let q = |v: (f64, f64)| format!("{:>5.1} / {:>5.1}", 1e3 * v.0, 1e3 * v.1);
             t += &format!(
-                "  {:<12} {:>2}   {:>5.1} ({:>4.1})    {:>5.1} ({:>4.1})     {}/{}\n",
+                "  x{:<4} {:<12} {:>2}   {}  {}  {}  {}  {}/{}/{}  {:>5}  {:>6}\n",
+                l.level,
                 l.object,
                 l.experiments,
-                1e3 * l.gpa.0,
-                1e3 * l.gpa.1,
-                1e3 * l.icp.0,
-                1e3 * l.icp.1,
+                q(l.acquired_quantiles),
+                q(l.map_quantiles),
+                q(l.pgpa_quantiles),
+                q(l.icp_quantiles),
                 l.gpa_failures,
-                l.icp_failures
+                l.pgpa_failures,
+                l.icp_failures,
+                l.worse_than_acquired,
+                l.unconverged
             );
         }
     }

@@ -68,14 +68,33 @@ pub struct EpisodeRow {
 pub struct ObjectRegistrationRow {
     /// Object name.
     pub object: String,
-    /// p-ICP-GPA mean alignment error (m).
+    /// The model's registration (MAP): mean alignment error (m).
     pub gpa: f64,
     /// Sequential-ICP mean alignment error (m).
     pub icp: f64,
-    /// p-ICP-GPA failed.
+    /// The model's registration failed.
     pub gpa_failed: bool,
     /// Sequential ICP failed.
     pub icp_failed: bool,
+    /// The error level of the episode (`errors.scale`, 1 unless swept).
+    #[serde(default = "one")]
+    pub level: f64,
+    /// Mean alignment error of the views as acquired (m).
+    #[serde(default)]
+    pub acquired: f64,
+    /// The paper's p-ICP-GPA: mean alignment error (m).
+    #[serde(default)]
+    pub pgpa: f64,
+    /// The paper's p-ICP-GPA failed.
+    #[serde(default)]
+    pub pgpa_failed: bool,
+    /// The model's registration converged.
+    #[serde(default)]
+    pub converged: bool,
+}
+
+fn one() -> f64 {
+    1.0
 }
 
 fn mean(v: &[f64]) -> f64 {
@@ -105,16 +124,28 @@ impl EpisodeRow {
         let alignment = |pick: &dyn Fn(&super::explore_report::ObjectEntry) -> Option<f64>| {
             mean(&objects.iter().filter_map(pick).collect::<Vec<_>>())
         };
+        let level = episode
+            .params
+            .iter()
+            .find(|(k, _)| k == "errors.scale")
+            .and_then(|(_, v)| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)))
+            .unwrap_or(1.0);
         let registrations = objects
             .iter()
             .filter_map(|o| {
                 let (g, i) = (o.error_gpa.as_ref()?, o.error_icp.as_ref()?);
+                let (a, p) = (o.error_unregistered.as_ref()?, o.error_pgpa.as_ref()?);
                 Some(ObjectRegistrationRow {
                     object: o.name.clone(),
                     gpa: g.alignment,
                     icp: i.alignment,
                     gpa_failed: g.failed,
                     icp_failed: i.failed,
+                    level,
+                    acquired: a.alignment,
+                    pgpa: p.alignment,
+                    pgpa_failed: p.failed,
+                    converged: g.converged,
                 })
             })
             .collect::<Vec<_>>();
@@ -360,6 +391,8 @@ pub fn best_setting(
 /// One object's line of the registration table (Table III).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct RegistrationLine {
+    /// Error level (`errors.scale`).
+    pub level: f64,
     /// Object name.
     pub object: String,
     /// Registrations (episodes that registered it).
@@ -372,21 +405,60 @@ pub struct RegistrationLine {
     pub gpa_failures: usize,
     /// Sequential-ICP failures.
     pub icp_failures: usize,
+    /// Median and 95th percentile of the alignment error as acquired (m).
+    pub acquired_quantiles: (f64, f64),
+    /// … of the model's registration (MAP).
+    pub map_quantiles: (f64, f64),
+    /// … of the paper's p-ICP-GPA.
+    pub pgpa_quantiles: (f64, f64),
+    /// … of sequential ICP.
+    pub icp_quantiles: (f64, f64),
+    /// The paper's p-ICP-GPA failures.
+    pub pgpa_failures: usize,
+    /// The model's registrations that did not converge.
+    pub unconverged: usize,
+    /// The model's registrations that end worse than as acquired by more than 0.5 mm.
+    pub worse_than_acquired: usize,
 }
 
-/// Table III over the rows: per object, over every episode that registered it.
+/// Median and 95th percentile (nearest rank) of `v`.
+fn quantiles(v: &[f64]) -> (f64, f64) {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let at = |q: f64| {
+        s.get(((q * s.len() as f64).ceil() as usize).saturating_sub(1))
+            .copied()
+            .unwrap_or(0.0)
+    };
+    (at(0.5), at(0.95))
+}
+
+/// Table III over the rows: per error level and object, over every episode that
+/// registered it.
 pub fn registration_table(rows: &[EpisodeRow]) -> Vec<RegistrationLine> {
-    let mut by: BTreeMap<String, Vec<&ObjectRegistrationRow>> = BTreeMap::new();
+    // Levels as integers in thousandths, so they order and group exactly.
+    let mut by: BTreeMap<(i64, String), Vec<&ObjectRegistrationRow>> = BTreeMap::new();
     for r in rows {
         for o in &r.registrations {
-            by.entry(o.object.clone()).or_default().push(o);
+            let level = (o.level * 1000.0).round() as i64;
+            by.entry((level, o.object.clone())).or_default().push(o);
         }
     }
     by.into_iter()
-        .map(|(object, v)| {
+        .map(|((level, object), v)| {
             let g: Vec<f64> = v.iter().map(|o| o.gpa).collect();
             let i: Vec<f64> = v.iter().map(|o| o.icp).collect();
+            let a: Vec<f64> = v.iter().map(|o| o.acquired).collect();
+            let p: Vec<f64> = v.iter().map(|o| o.pgpa).collect();
             RegistrationLine {
+                level: level as f64 / 1000.0,
+                acquired_quantiles: quantiles(&a),
+                map_quantiles: quantiles(&g),
+                pgpa_quantiles: quantiles(&p),
+                icp_quantiles: quantiles(&i),
+                pgpa_failures: v.iter().filter(|o| o.pgpa_failed).count(),
+                unconverged: v.iter().filter(|o| !o.converged).count(),
+                worse_than_acquired: v.iter().filter(|o| o.gpa > o.acquired + 5e-4).count(),
                 object,
                 experiments: v.len(),
                 gpa: (mean(&g), std_dev(&g)),
@@ -431,6 +503,11 @@ mod tests {
                 icp: 2.0 * gpa,
                 gpa_failed: false,
                 icp_failed: true,
+                level: 1.0,
+                acquired: 1.5 * gpa,
+                pgpa: 3.0 * gpa,
+                pgpa_failed: true,
+                converged: true,
             }],
             time_s: 10.0,
         }

@@ -13,9 +13,11 @@ mod perception_error;
 mod phase_one;
 mod segmentation;
 mod segmentation_params;
+mod workcell_alignment;
 
 pub use oriented_box::OrientedBox;
 pub use perception_error::PerceptionError;
 pub use phase_one::{PhaseOne, PhaseOneConfig, PhaseOneMap, build_map, phase_one};
 pub use segmentation::{ObjectSegmentation, SegmentationCounts, segment_objects};
 pub use segmentation_params::SegmentationParams;
+pub use workcell_alignment::{WorkcellAlignment, align_to_workcell};

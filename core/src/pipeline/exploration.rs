@@ -1,5 +1,6 @@
 //! [`explore`]: Algorithm 1 of the paper over any rig.
 
+use super::hand_eye::estimate_hand_eye;
 use super::{
     AcquiredView, Exploration, ExploreConfig, ExploreEvent, ExploreMode, ExploreObserver,
     ObjectExploration, ObjectRegion, ObjectRegistration, ObjectStop, PhaseOneReport, PipelineError,
@@ -11,9 +12,9 @@ use crate::kinematics::Robot;
 use crate::math::Pose;
 use crate::nbv::{InformationGain, NextBestView, VisitedViews, view_pose_rolled};
 use crate::occupancy::{OccupancyGrid, ReducedMap};
-use crate::perception::phase_one;
+use crate::perception::{align_to_workcell, phase_one};
 use crate::planning::{CollisionWorld, MotionPlanner, PlanningError};
-use crate::registration::{Method, RegistrationParams, register};
+use crate::registration::{Method, RegistrationParams, register, register_with_models};
 use crate::rig::{
     Arm, DepthCamera, DepthFrame, JointPath, LineScanner, RigError, acquire_sweep, average_frames,
     depth_frame_to_cloud, lines_to_cloud, sensor_pose,
@@ -103,12 +104,7 @@ where
         });
         if object.views.iter().any(|v| !v.cloud.is_empty()) {
             let t = Instant::now();
-            match register_object(
-                &object,
-                &config.registration,
-                config.registration_points,
-                config.max_correction,
-            ) {
+            match register_object(&object, config, phase_report.workcell.as_ref()) {
                 Ok(r) => object.registration = Some(r),
                 Err(e) => object.registration_error = Some(e.to_string()),
             }
@@ -117,12 +113,14 @@ where
         }
         objects.push(object);
     }
+    let hand_eye = estimate_hand_eye(&objects);
     Ok(Exploration {
         mode: config.mode,
         phase_one: phase_report,
         objects,
         grid,
         collisions,
+        hand_eye,
     })
 }
 
@@ -144,6 +142,7 @@ where
 {
     let mut times = StepTimes::default();
     let mut collisions = 0;
+    let mut workcell = None;
     let (lines, survey_frames, cloud) = if config.mode == ExploreMode::ShortOnly {
         let (frames, cloud) = survey(
             robot,
@@ -164,8 +163,18 @@ where
         let sweep = acquire_sweep(arm, scanner, &config.sweep, config.sweep_speed)?;
         times.motion += t.elapsed().as_secs_f64();
         let t = Instant::now();
-        let cloud = lines_to_cloud(&sweep.lines, &sweep.motion, robot, base, scanner.spec())?;
+        let mut cloud = lines_to_cloud(&sweep.lines, &sweep.motion, robot, base, scanner.spec())?;
         times.acquisition += t.elapsed().as_secs_f64();
+        if config.align_to_workcell {
+            let a = align_to_workcell(
+                &cloud,
+                &config.obstacles,
+                config.uncertainty.laser_noise.sigma(1.0),
+                &config.uncertainty.laser_pose,
+            );
+            cloud.transform(&a.correction);
+            workcell = Some(a);
+        }
         (sweep.lines.len(), 0, cloud)
     };
     observer.event(&ExploreEvent::SweepDone {
@@ -189,6 +198,7 @@ where
         scan: one.map.scan,
         reduced: *one.map.reduced.stats(),
         grid: one.map.grid,
+        workcell,
         times,
     };
     Ok((report, one.segmentation))
@@ -520,49 +530,69 @@ fn subsample(cloud: &PointCloud, n: usize) -> PointCloud {
     cloud.select(&indices)
 }
 
-/// Registers the cluster (reference) and the views with both methods.
+/// Registers the cluster (reference) and the views with the MAP registration (the
+/// model's), the paper's p-ICP-GPA and sequential ICP, from the same input.
 fn register_object(
     object: &ObjectExploration,
-    params: &RegistrationParams,
-    points: usize,
-    max_correction: (f64, f64),
+    config: &ExploreConfig,
+    workcell: Option<&crate::perception::WorkcellAlignment>,
 ) -> Result<ObjectRegistration, crate::registration::RegistrationError> {
+    let points = config.registration_points;
     let mut views = vec![subsample(&object.cluster, points)];
     views.extend(
         object
             .views
             .iter()
             .filter(|v| !v.cloud.is_empty())
-            .map(|v| subsample(&v.cloud, points)),
+            .map(|v| {
+                let mut cloud = subsample(&v.cloud, points);
+                // Every point of a frame was seen from the reported sensor position.
+                let o = nalgebra::Point3::from(v.sensor_pose.translation.vector);
+                cloud.origins = Some(vec![o; cloud.len()]);
+                cloud
+            }),
     );
     let initial = vec![Pose::identity(); views.len()];
-    let gpa = register(
-        &views,
-        &initial,
-        &RegistrationParams {
-            method: Method::Gpa,
-            reference: 0,
-            ..params.clone()
-        },
-    )?;
+    // A sweep aligned to the workcell is off by its posterior uncertainty only.
+    let mut uncertainty = config.uncertainty;
+    if let Some(a) = workcell.filter(|a| a.accepted) {
+        uncertainty.laser_pose = crate::registration::PosePrior {
+            rotation_sigma: a.sigma.0,
+            translation_sigma: a.sigma.1,
+        };
+    }
+    let models = uncertainty.view_models(&views, config.frames_per_view);
+    let params = |method| RegistrationParams {
+        method,
+        reference: 0,
+        ..config.registration.clone()
+    };
+    // The camera views are registered into the laser cluster only (see `MapParams`).
+    let mut map_params = params(Method::Map);
+    map_params.map.view_to_view = false;
+    let map = register_with_models(&views, &initial, &models, &map_params)?;
+    let gpa = register(&views, &initial, &params(Method::Gpa))?;
     let icp = register(
         &views,
         &initial,
-        &RegistrationParams {
-            method: Method::SequentialIcp {
-                point_to_plane: false,
-            },
-            reference: 0,
-            ..params.clone()
-        },
+        &params(Method::SequentialIcp {
+            point_to_plane: false,
+        }),
     )?;
     let accepted = |r: &crate::registration::Registration| {
-        r.converged && within_correction(&views, &r.poses, max_correction)
+        r.converged && within_correction(&views, &r.poses, config.max_correction)
+    };
+    let map_accepted = match &map.report {
+        crate::registration::MethodReport::Map(m) => m.accepted,
+        _ => false,
     };
     Ok(ObjectRegistration {
+        models,
+        map_accepted,
         gpa_accepted: accepted(&gpa),
         icp_accepted: accepted(&icp),
         views,
+        map,
         gpa,
         icp,
     })

@@ -64,11 +64,17 @@ pub struct ExploreConfig {
     pub obstacles: Vec<Obstacle>,
     /// Registration parameters (method and reference are set per run).
     pub registration: RegistrationParams,
+    /// Correct the laser sweep's pose by the workcell it sees (the table top and the
+    /// known obstacles in `obstacles`) before segmenting it
+    /// ([`align_to_workcell`](crate::perception::align_to_workcell)).
+    pub align_to_workcell: bool,
+    /// The sensors' noise and pose uncertainty: the MAP registration's weights and priors.
+    pub uncertainty: super::PoseUncertainty,
     /// Points per view kept for registration (views are subsampled evenly); 0 keeps all.
     pub registration_points: usize,
-    /// Largest correction a registration may apply to a view's reported pose: rotation
-    /// (rad) and displacement of the view's centroid (m). Beyond it the registration is
-    /// rejected and the model keeps the reported poses.
+    /// Largest correction the paper's p-ICP-GPA and sequential ICP may apply to a view's
+    /// reported pose: rotation (rad) and displacement of the view's centroid (m). Beyond
+    /// it their registration is rejected (the MAP registration has its χ² gate instead).
     pub max_correction: (f64, f64),
     /// Margin (m) around an object's phase-1 bounding box within which short-range points
     /// belong to the object.

@@ -74,6 +74,10 @@ pub struct PhaseOneReport {
     pub grid: OccupancyGrid,
     /// Its reduced map's statistics.
     pub reduced: ReducedMapStats,
+    /// The sweep's pose correction from the known workcell (hybrid and mid-only, when
+    /// [`ExploreConfig::align_to_workcell`](super::ExploreConfig::align_to_workcell)):
+    /// `cloud` is already corrected by it when accepted.
+    pub workcell: Option<crate::perception::WorkcellAlignment>,
     /// Times.
     pub times: StepTimes,
 }
@@ -125,16 +129,22 @@ pub enum ObjectStop {
     NotExplored,
 }
 
-/// Both registrations of an object's views (view 0 is the phase-1 cluster, the
-/// reference).
+/// The registrations of an object's views (view 0 is the phase-1 cluster, the
+/// reference), all from the same input.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ObjectRegistration {
     /// The views as registered (subsampled, world frame through the reported poses).
     pub views: Vec<PointCloud>,
-    /// p-ICP-GPA.
+    /// What the MAP registration was told of each view: its noise and prior.
+    pub models: Vec<crate::registration::ViewModel>,
+    /// The MAP registration: the model's.
+    pub map: Registration,
+    /// The paper's p-ICP-GPA.
     pub gpa: Registration,
     /// Sequential ICP (view h onto view h−1).
     pub icp: Registration,
+    /// Whether the MAP registration was accepted (converged, objective lowered).
+    pub map_accepted: bool,
     /// Whether p-ICP-GPA converged within the correction bound.
     pub gpa_accepted: bool,
     /// Whether sequential ICP converged within the correction bound.
@@ -168,11 +178,19 @@ pub struct ObjectExploration {
 }
 
 impl ObjectExploration {
-    /// The object's model: its views merged through the p-ICP-GPA poses, with a `views`
-    /// column; the views as acquired when the registration was rejected
-    /// ([`ObjectRegistration::gpa_accepted`]); the cluster alone when there was nothing
+    /// The object's model: its views merged through the MAP registration's poses, with a
+    /// `views` column; the views as acquired when the registration was rejected
+    /// ([`ObjectRegistration::map_accepted`]); the cluster alone when there was nothing
     /// to register.
     pub fn model(&self) -> PointCloud {
+        match &self.registration {
+            Some(r) if !r.map_accepted => self.unregistered_model(),
+            _ => self.merged_with(|r| &r.map),
+        }
+    }
+
+    /// The model by the paper's p-ICP-GPA (as acquired when it was rejected).
+    pub fn gpa_model(&self) -> PointCloud {
         match &self.registration {
             Some(r) if !r.gpa_accepted => self.unregistered_model(),
             _ => self.merged_with(|r| &r.gpa),
@@ -224,4 +242,6 @@ pub struct Exploration {
     pub grid: OccupancyGrid,
     /// Collisions the rig reported while executing planned paths.
     pub collisions: usize,
+    /// The depth camera's hand-eye correction estimated from all objects' registrations.
+    pub hand_eye: Option<super::HandEyeEstimate>,
 }

@@ -96,4 +96,15 @@ pub enum RegistrationError {
     /// determined.
     #[error("the correspondences are collinear or coincident: the rotation is not determined")]
     DegenerateCorrespondences,
+    /// The number of view models differs from the number of views.
+    #[error("{views} views but {models} view models")]
+    ModelCountMismatch {
+        /// Views given.
+        views: usize,
+        /// Models given.
+        models: usize,
+    },
+    /// A view model has a non-positive or non-finite σ.
+    #[error("view {0}: the noise σ and the prior σ must be finite and > 0 (exponent >= 0)")]
+    InvalidViewModel(usize),
 }

@@ -48,6 +48,9 @@ mod error;
 mod gpa;
 mod icp;
 mod independent_sets;
+mod map;
+mod map_terms;
+mod map_view;
 mod merge;
 mod mutual_neighbours;
 mod nearest_cache;
@@ -57,16 +60,19 @@ mod params;
 mod procrustes;
 mod report;
 mod sequential_icp;
+mod view_model;
 mod view_tree;
 
 pub use error::RegistrationError;
 pub use icp::align;
 pub use normals::estimate_normals;
-pub use params::{IcpParams, Method, RegistrationParams, SetRule};
+pub use params::{IcpParams, MapParams, Method, RegistrationParams, SetRule};
 pub use procrustes::rigid_procrustes;
 pub use report::{
-    GpaReport, IcpReport, MethodReport, PairReport, Registration, SequentialIcpReport, StopReason,
+    GpaReport, IcpReport, MapReport, MapViewReport, MethodReport, PairReport, Registration,
+    SequentialIcpReport, StopReason,
 };
+pub use view_model::{PosePrior, RangeNoise, ViewModel};
 
 use crate::cloud::PointCloud;
 use crate::math::Pose;
@@ -115,9 +121,72 @@ pub fn register(
     initial_poses: &[Pose],
     params: &RegistrationParams,
 ) -> Result<Registration, RegistrationError> {
+    let models = vec![ViewModel::default(); views.len()];
+    register_with_models(views, initial_poses, &models, params)
+}
+
+/// [`register`] with what is known of each view: its sensor's noise and the prior on its
+/// pose ([`ViewModel`]). Only [`Method::Map`] uses them; the other methods ignore them.
+///
+/// ```
+/// use nbv_core::cloud::PointCloud;
+/// use nbv_core::registration::{
+///     register_with_models, Method, MethodReport, PosePrior, RangeNoise, RegistrationParams,
+///     ViewModel,
+/// };
+/// use nalgebra::{Isometry3, Point3, Vector3};
+/// // Two views of a wavy surface; the robot reported view 1 2 mm and 0.5° off.
+/// let surface = |i: usize, j: usize| {
+///     let (x, y) = (i as f64 * 0.004, j as f64 * 0.004);
+///     Point3::new(x, y, 0.5 + 0.01 * (110.0 * x).sin() * (90.0 * y).cos())
+/// };
+/// let view0: Vec<_> = (0..25).flat_map(|i| (0..25).map(move |j| surface(i, j))).collect();
+/// let view1: Vec<_> = (5..30).flat_map(|i| (0..25).map(move |j| surface(i, j))).collect();
+/// // Both seen from a sensor 0.5 m above the surface (the `origins` column).
+/// let seen = |points: Vec<Point3<f64>>| {
+///     let mut c = PointCloud::from_points(points);
+///     c.origins = Some(vec![Point3::new(0.06, 0.05, 0.0); c.len()]);
+///     c
+/// };
+/// let views = [seen(view0), seen(view1)];
+/// let error = Isometry3::new(Vector3::new(0.002, -0.001, 0.0), Vector3::new(0.0, 0.0, 0.009));
+/// let initial = [Isometry3::identity(), error];
+/// let model = ViewModel {
+///     noise: RangeNoise::constant(0.0005),
+///     prior: Some(PosePrior { rotation_sigma: 0.01, translation_sigma: 0.003 }),
+/// };
+/// let params = RegistrationParams { method: Method::Map, max_correspondence_distance: 0.01,
+///                                   ..Default::default() };
+/// let r = register_with_models(&views, &initial, &[model; 2], &params).unwrap();
+/// assert!(r.converged);
+/// let MethodReport::Map(report) = &r.report else { unreachable!() };
+/// assert!(report.accepted && report.objective_final < report.objective_initial);
+/// // Closer to the truth (the identity) than the reported 2.2 mm and 0.5°.
+/// assert!(r.poses[1].translation.vector.norm() < 0.0022);
+/// assert!(r.poses[1].rotation.angle() < 0.5f64.to_radians());
+/// ```
+pub fn register_with_models(
+    views: &[PointCloud],
+    initial_poses: &[Pose],
+    models: &[ViewModel],
+    params: &RegistrationParams,
+) -> Result<Registration, RegistrationError> {
     params.validate()?;
     view_tree::check_views(views, initial_poses, params.reference)?;
+    if models.len() != views.len() {
+        return Err(RegistrationError::ModelCountMismatch {
+            views: views.len(),
+            models: models.len(),
+        });
+    }
+    if let Some(view) = models
+        .iter()
+        .position(|m| !m.noise.is_valid() || m.prior.is_some_and(|p| !p.is_valid()))
+    {
+        return Err(RegistrationError::InvalidViewModel(view));
+    }
     match params.method {
+        Method::Map => map::run(views, initial_poses, models, params),
         Method::Gpa => gpa::run(views, initial_poses, params),
         Method::SequentialIcp { point_to_plane } => {
             sequential_icp::run(views, initial_poses, params, point_to_plane)

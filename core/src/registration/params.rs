@@ -10,6 +10,10 @@ use super::RegistrationError;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Method {
+    /// Maximum a posteriori estimate of every pose: the data weighted by each sensor's
+    /// noise, a prior per view towards its reported pose, the reference view fixed
+    /// ([`MapParams`]). The pipeline's default.
+    Map,
     /// p-ICP-GPA: every view registered simultaneously against the centroids of the
     /// independent sets (paper, Figure 4).
     Gpa,
@@ -79,6 +83,122 @@ pub struct RegistrationParams {
     /// Neighbours used to estimate normals by PCA for point-to-plane ICP when a target
     /// view carries none.
     pub normal_neighbours: usize,
+    /// The MAP method's own parameters.
+    pub map: MapParams,
+}
+
+/// Parameters of the MAP registration ([`Method::Map`]).
+///
+/// ```
+/// use nbv_core::registration::MapParams;
+/// let p = MapParams::default();
+/// assert!((p.gate_chi2 - 22.458).abs() < 1e-3); // χ²(6) at 0.999
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MapParams {
+    /// Scale `c` of the Cauchy kernel, in σ of each residual (2.385: 95 % efficiency on
+    /// Gaussian noise).
+    pub kernel_scale: f64,
+    /// Residuals beyond this many σ are outliers (constant cost, no pull).
+    pub outlier_sigmas: f64,
+    /// A point takes part in a stage when matched within this many σ at the stage's start
+    /// (see `max_stages`).
+    pub match_sigmas: f64,
+    /// Stages: each fixes which points take part (those matched at its start), then
+    /// minimises; the next starts where it ended, until the poses stop moving.
+    pub max_stages: usize,
+    /// σ added to every residual (m): what no sensor model explains (sampling, shape).
+    pub floor_sigma: f64,
+    /// Convergence: a step turns no view by more than this (rad)…
+    pub rotation_tolerance: f64,
+    /// …and moves no view's centroid by more than this (m).
+    pub translation_tolerance: f64,
+    /// Cap on accepted steps (a safety net; convergence is the usual exit).
+    pub max_iterations: usize,
+    /// χ² (6 degrees of freedom) a view's correction may reach under its prior; beyond,
+    /// the view keeps its reported pose.
+    pub gate_chi2: f64,
+    /// Terms between non-reference views too (both ways, half weight each), not only
+    /// each view into the reference. Off for the pipeline's camera views: at their
+    /// centimetre noise, view-to-view point-to-point terms pull registrations off (on the
+    /// paper scenes' objects they leave 4–5 mm where the views into the laser cluster
+    /// alone leave 1.3–2.3 mm).
+    pub view_to_view: bool,
+    /// Points per view used in each view-to-view term (all points into the reference).
+    pub pair_points: usize,
+    /// Neighbours of each point's surface element (mean and normal).
+    pub surface_neighbours: usize,
+}
+
+impl Default for MapParams {
+    fn default() -> Self {
+        Self {
+            kernel_scale: 2.385,
+            outlier_sigmas: 8.0,
+            match_sigmas: 3.0,
+            max_stages: 4,
+            floor_sigma: 0.0005,
+            rotation_tolerance: 0.005f64.to_radians(),
+            translation_tolerance: 5e-5,
+            max_iterations: 100,
+            gate_chi2: 22.458,
+            view_to_view: true,
+            pair_points: 600,
+            surface_neighbours: 16,
+        }
+    }
+}
+
+impl MapParams {
+    /// Checks every value.
+    pub fn validate(&self) -> Result<(), RegistrationError> {
+        for (name, value) in [
+            ("map.kernel_scale", self.kernel_scale),
+            ("map.outlier_sigmas", self.outlier_sigmas),
+            ("map.match_sigmas", self.match_sigmas),
+            ("map.gate_chi2", self.gate_chi2),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(RegistrationError::InvalidParameter {
+                    name,
+                    value,
+                    reason: "must be finite and > 0",
+                });
+            }
+        }
+        for (name, value) in [
+            ("map.floor_sigma", self.floor_sigma),
+            ("map.rotation_tolerance", self.rotation_tolerance),
+            ("map.translation_tolerance", self.translation_tolerance),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(RegistrationError::InvalidParameter {
+                    name,
+                    value,
+                    reason: "must be finite and >= 0",
+                });
+            }
+        }
+        for (name, value) in [
+            ("map.max_iterations", self.max_iterations),
+            ("map.max_stages", self.max_stages),
+            ("map.pair_points", self.pair_points),
+            (
+                "map.surface_neighbours",
+                self.surface_neighbours.saturating_sub(2),
+            ),
+        ] {
+            if value == 0 {
+                return Err(RegistrationError::InvalidParameter {
+                    name,
+                    value: value as f64,
+                    reason: "must be at least 1 (surface_neighbours: at least 3)",
+                });
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Default for RegistrationParams {
@@ -94,6 +214,7 @@ impl Default for RegistrationParams {
             translation_tolerance: 1e-6,
             set_rule: SetRule::Cliques,
             normal_neighbours: 10,
+            map: MapParams::default(),
         }
     }
 }
@@ -120,6 +241,7 @@ impl RegistrationParams {
                 });
             }
         }
+        self.map.validate()?;
         self.icp_params(false).validate()
     }
 

@@ -40,10 +40,57 @@ pub struct Registration {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MethodReport {
+    /// The MAP registration.
+    Map(Box<MapReport>),
     /// p-ICP-GPA.
     Gpa(GpaReport),
     /// Sequential pairwise ICP.
     SequentialIcp(SequentialIcpReport),
+}
+
+/// How the MAP registration went.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MapReport {
+    /// Accepted Levenberg–Marquardt steps.
+    pub iterations: usize,
+    /// Evaluations of the objective (correspondence searches).
+    pub evaluations: usize,
+    /// Why it stopped.
+    pub stop: StopReason,
+    /// The objective at the reported poses.
+    pub objective_initial: f64,
+    /// The objective at the returned poses.
+    pub objective_final: f64,
+    /// Directed view pairs in the data term.
+    pub pairs: usize,
+    /// Inlier correspondences at the returned poses.
+    pub inliers: usize,
+    /// RMS distance of the inlier correspondences (m); `None` without any.
+    pub rms: Option<f64>,
+    /// Converged and the objective fell: the poses are the model's.
+    pub accepted: bool,
+    /// What was accepted and why, in words.
+    pub verdict: String,
+    /// Per view, in input order.
+    pub views: Vec<MapViewReport>,
+}
+
+/// One view of a [`MapReport`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MapViewReport {
+    /// Inlier correspondences the view takes part in.
+    pub inliers: usize,
+    /// Its correction `(ω, t)` about its sensor origin (rad, m; world frame).
+    pub correction: [f64; 6],
+    /// χ² of the correction under the prior (`None` without a prior, or the reference).
+    pub chi2: Option<f64>,
+    /// Beyond the χ² gate: kept at its reported pose.
+    pub held_at_prior: bool,
+    /// No correspondence at all: left at its prior.
+    pub unconstrained: bool,
+    /// The data's information about the view's pose at the returned poses (6×6 diagonal
+    /// block of the Gauss–Newton Hessian, rotation first, about the sensor origin).
+    pub data_information: nalgebra::Matrix6<f64>,
 }
 
 /// How p-ICP-GPA went.

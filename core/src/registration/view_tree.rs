@@ -121,6 +121,20 @@ impl ViewTree {
         )
     }
 
+    /// The nearest point to `q` (view frame) within `radius`, if any (ties: the lower
+    /// index, as the tree returns it).
+    pub(crate) fn nearest_within(&self, q: &Point3<f64>, radius: f64) -> Option<usize> {
+        if self.distance_to_bounds(q) > radius {
+            return None;
+        }
+        let found = self
+            .tree
+            .query(&[q.x, q.y, q.z])
+            .nearest_one::<SquaredEuclidean<f64>>()
+            .execute();
+        (found.distance <= radius * radius).then_some(found.item as usize)
+    }
+
     /// Indices of the `k` nearest points to `q` (fewer if the view is smaller), nearest
     /// first.
     pub(crate) fn nearest_k(&self, q: &Point3<f64>, k: NonZeroUsize) -> Vec<usize> {

@@ -17,6 +17,39 @@ pub struct ErrorModel {
     pub joint_offset_deg: [f64; 6],
     /// Random error of each reported view pose.
     pub pose_noise: PoseNoise,
+    /// Scale of the whole model: hand-eye, joint offsets and pose noise are multiplied by
+    /// it, in the twin and in the registration's prior alike (a sweep key for the error
+    /// level: `errors.scale = 3`). Default 1.
+    pub scale: f64,
+}
+
+impl ErrorModel {
+    /// Hand-eye error (metres, radians) after [`scale`](Self::scale).
+    pub fn scaled_hand_eye(&self) -> ([f64; 3], [f64; 3]) {
+        let s = self.scale;
+        let (t, r) = (self.hand_eye.xyz, self.hand_eye.rpy_deg);
+        (
+            [t[0] * s, t[1] * s, t[2] * s],
+            [
+                (r[0] * s).to_radians(),
+                (r[1] * s).to_radians(),
+                (r[2] * s).to_radians(),
+            ],
+        )
+    }
+
+    /// Joint offsets (radians) after [`scale`](Self::scale).
+    pub fn scaled_joint_offsets(&self) -> [f64; 6] {
+        self.joint_offset_deg.map(|d| (d * self.scale).to_radians())
+    }
+
+    /// Pose noise σ (metres, radians) after [`scale`](Self::scale).
+    pub fn scaled_pose_noise(&self) -> (f64, f64) {
+        (
+            self.pose_noise.translation_sigma * self.scale,
+            (self.pose_noise.rotation_sigma_deg * self.scale).to_radians(),
+        )
+    }
 }
 
 impl Default for ErrorModel {
@@ -28,6 +61,7 @@ impl Default for ErrorModel {
             },
             joint_offset_deg: [0.05, -0.04, 0.03, 0.05, -0.05, 0.05],
             pose_noise: PoseNoise::default(),
+            scale: 1.0,
         }
     }
 }

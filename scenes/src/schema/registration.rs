@@ -23,6 +23,11 @@ pub struct Registration {
     pub max_correction_deg: f64,
     /// Largest displacement (m) of a view's centroid by the correction. Default 0.03.
     pub max_correction_m: f64,
+    /// Correct the laser sweep's reported pose by the workcell it sees (the table top and
+    /// the known obstacles) before segmentation, so the laser cluster — the registration's
+    /// anchor — and the exclusion of known obstacles are where the scene says. Default
+    /// true.
+    pub align_to_workcell: bool,
 }
 
 impl Default for Registration {
@@ -34,6 +39,7 @@ impl Default for Registration {
             points_per_view: 2000,
             max_correction_deg: 5.0,
             max_correction_m: 0.03,
+            align_to_workcell: true,
         }
     }
 }

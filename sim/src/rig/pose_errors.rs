@@ -7,7 +7,9 @@
 //! - true sensor pose `base · FK(q + joint_offset, frame) · mount_error · view_error`,
 //!   where `mount_error` is the hand-eye error for the depth camera and the identity for
 //!   the laser (the laser is the calibrated reference), and `view_error` is drawn once per
-//!   acquisition (per depth frame, per laser sweep) from the acquisition's seed.
+//!   laser sweep and once per standstill of the arm for the depth camera (every frame of
+//!   a burst at one viewpoint shares it: the arm's pose, not the frame, is off), from the
+//!   seed of the sweep or of the standstill's first frame.
 //!
 //! The pipeline computes `base · FK(q, frame)` with the nominal model, so its points are
 //! off by exactly this model.
@@ -44,13 +46,15 @@ impl PoseErrors {
         }
     }
 
-    /// The model of a scene's `[errors]`.
+    /// The model of a scene's `[errors]` (its `scale` applied).
     pub fn from_scene(e: &ErrorModel) -> Self {
+        let (xyz, rpy) = e.scaled_hand_eye();
+        let (translation_sigma, rotation_sigma) = e.scaled_pose_noise();
         Self {
-            joint_offset: Joints::from_iterator(e.joint_offset_deg.iter().map(|d| d.to_radians())),
-            hand_eye: e.hand_eye.to_pose(),
-            translation_sigma: e.pose_noise.translation_sigma,
-            rotation_sigma: e.pose_noise.rotation_sigma_deg.to_radians(),
+            joint_offset: Joints::from(e.scaled_joint_offsets()),
+            hand_eye: nbv_core::math::pose_from_xyz_rpy(xyz, rpy),
+            translation_sigma,
+            rotation_sigma,
         }
     }
 

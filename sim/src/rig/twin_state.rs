@@ -95,6 +95,9 @@ pub struct TwinState {
     acquisitions: u64,
     stream: Option<LineStream>,
     log: Vec<AcquisitionTruth>,
+    /// The view error of the depth frames taken since the arm last moved: a burst at one
+    /// standstill shares it (the arm, not the frame, carries the pose error).
+    stand_error: Option<Pose>,
 }
 
 /// Why a rig could not be assembled.
@@ -133,6 +136,7 @@ impl TwinState {
             acquisitions: 0,
             stream: None,
             log: Vec::new(),
+            stand_error: None,
         })
     }
 
@@ -241,6 +245,7 @@ impl TwinState {
     /// Executes a path (see [`super::SimArm`]).
     pub(crate) fn execute(&mut self, path: &JointPath) -> Result<Motion, RigError> {
         let timed = TimedPath::new(path, self.world.robot().limits(), self.time)?;
+        self.stand_error = None;
         let gap = (timed.waypoints[0] - self.q).amax();
         if gap > START_TOLERANCE {
             return Err(RigError::InvalidPath(format!(
@@ -289,6 +294,7 @@ impl TwinState {
     /// Places the arm at `q` without moving through the space between (refused, arm
     /// unmoved, if `q` is outside the limits or in contact).
     pub(crate) fn teleport(&mut self, q: Joints) -> Result<(), RigError> {
+        self.stand_error = None;
         let path = JointPath {
             waypoints: vec![q],
             speed_fraction: 1.0,
@@ -353,7 +359,10 @@ impl TwinState {
     /// period.
     pub(crate) fn capture(&mut self) -> DepthFrame {
         let id = self.next_acquisition();
-        let view_error = self.config.errors.view_error(id);
+        let errors = &self.config.errors;
+        let view_error = *self
+            .stand_error
+            .get_or_insert_with(|| errors.view_error(id));
         let q = self.q;
         let pose = self.true_sensor_pose(false, &q, &view_error);
         self.world

@@ -1,0 +1,490 @@
+//! The pipeline's default registration: a maximum a posteriori estimate of every view's
+//! pose, the reference view fixed as the anchor (multi-view LM-ICP with priors; Fantoni et
+//! al. 2012, with the noise and prior terms of `facts/registration.md`).
+//!
+//! The objective is `F = Σ_pairs weight·ρ(data) + Σ_views ½·ξᵀ Λ ξ`:
+//! - the data term ([`map_terms`](super::map_terms)): every point of a non-reference view
+//!   matched into the reference view (one way) and into each overlapping other view (both
+//!   ways, half weight each), residuals weighted by both sensors' range noise along their
+//!   rays, point-to-plane where the target's plane is well determined, a Cauchy kernel
+//!   scaled to σ and truncated;
+//! - the prior: each view's correction `ξ = (ω, t)` about its sensor origin, weighted by
+//!   the information of its [`PosePrior`](super::PosePrior). Directions the geometry does
+//!   not observe (the rotation about a bottle's axis) stay at the prior.
+//!
+//! Levenberg–Marquardt over all free views at once: each step solves the damped normal
+//! equations, the correspondences are searched again at the new poses and the step is
+//! kept only if `F` fell, else the damping grows. It stops converged when a step would
+//! turn no view by more than `rotation_tolerance` and move no view's centroid by more than
+//! `translation_tolerance`, or at `max_iterations` accepted steps (a safety net).
+//!
+//! Acceptance: every view's correction must pass the χ² gate of its prior (6 degrees of
+//! freedom); the view farthest beyond it is held at its prior and the rest solved again,
+//! until all pass. The report says which views were held, which had no correspondence
+//! (left at the prior), and whether the objective fell. Chunked sums in a fixed order make
+//! the result identical at any thread count.
+
+use nalgebra::{DMatrix, DVector, Matrix6, Point3, Translation3, UnitQuaternion, Vector6};
+use rayon::prelude::*;
+
+use super::map_terms::{self, DataTerm, Kernel, Pair};
+use super::map_view::MapView;
+use super::{
+    MapReport, MapViewReport, MethodReport, Registration, RegistrationError, RegistrationParams,
+    StopReason, ViewModel,
+};
+use crate::cloud::PointCloud;
+use crate::math::Pose;
+
+/// Source points sampled per pair for the overlap test.
+const OVERLAP_SAMPLES: usize = 200;
+
+/// Damping bounds of Levenberg–Marquardt.
+const LAMBDA_START: f64 = 1e-4;
+const LAMBDA_MAX: f64 = 1e8;
+/// Damping up to which a step is close to Gauss–Newton's, so its size measures how far
+/// the minimum is.
+const SMALL_STEP_LAMBDA: f64 = 1e-2;
+
+/// The problem, fixed for a run.
+struct Problem<'a> {
+    views: Vec<MapView>,
+    pairs: Vec<Pair>,
+    initial: &'a [Pose],
+    models: &'a [ViewModel],
+    /// Sensor origins at the initial poses (world): the centres of the corrections.
+    origins: Vec<Point3<f64>>,
+    kernel: Kernel,
+    reference: usize,
+}
+
+/// The state: a world-frame correction per view (`pose = correction · initial`).
+struct State {
+    corrections: Vec<Pose>,
+    data: DataTerm,
+    objective: f64,
+}
+
+/// Runs the MAP registration on checked input with one [`ViewModel`] per view.
+pub(crate) fn run(
+    clouds: &[PointCloud],
+    initial: &[Pose],
+    models: &[ViewModel],
+    params: &RegistrationParams,
+) -> Result<Registration, RegistrationError> {
+    let map = &params.map;
+    let views: Vec<MapView> = clouds
+        .par_iter()
+        .zip(models)
+        .enumerate()
+        .map(|(v, (c, m))| MapView::new(v, c, &m.noise, map.surface_neighbours))
+        .collect::<Result<_, _>>()?;
+    let origins: Vec<Point3<f64>> = views
+        .iter()
+        .zip(initial)
+        .map(|(v, p)| p * v.centre)
+        .collect();
+    let kernel = Kernel {
+        select: map.match_sigmas,
+        scale: map.kernel_scale,
+        cap: map.outlier_sigmas,
+        floor: map.floor_sigma,
+        max_distance: params.max_correspondence_distance,
+    };
+    let reference = params.reference;
+    let pairs = select_pairs(
+        &views,
+        initial,
+        reference,
+        &kernel,
+        map.pair_points,
+        map.view_to_view,
+    );
+    let mut problem = Problem {
+        views,
+        pairs,
+        initial,
+        models,
+        origins,
+        kernel,
+        reference,
+    };
+    let w = clouds.len();
+    let mut held = vec![false; w];
+    let identity = vec![Pose::identity(); w];
+    let mut corrections = identity.clone();
+    let (mut iterations, mut evaluations) = (0, 0);
+    let mut stages = 0;
+    let (state, stop) = loop {
+        // Which points take part: those matched at the current poses.
+        problem.unmask();
+        let matched = problem.data(&corrections).matched;
+        problem.mask(matched);
+        let (state, stop, its, evals) =
+            problem.solve_gated(problem.state(corrections.clone()), &mut held, params);
+        iterations += its;
+        evaluations += evals + 2;
+        stages += 1;
+        let moved = (0..w).any(|v| {
+            let d = state.corrections[v] * corrections[v].inverse();
+            let o = corrections[v] * problem.origins[v];
+            d.rotation.angle() > map.rotation_tolerance * 10.0
+                || (d * o - o).norm() > map.translation_tolerance * 10.0
+        });
+        corrections = state.corrections.clone();
+        if !moved || stages == map.max_stages || stop != StopReason::Converged {
+            break (state, stop);
+        }
+    };
+    // The final objective, and the same objective at the reported poses.
+    let objective_initial = problem.state(identity).objective;
+    evaluations += 1;
+
+    let poses: Vec<Pose> = (0..w)
+        .map(|v| {
+            if v == reference {
+                initial[v]
+            } else {
+                state.corrections[v] * initial[v]
+            }
+        })
+        .collect();
+    let rms = (state.data.inlier_count > 0)
+        .then(|| (state.data.sum_sq / state.data.inlier_count as f64).sqrt());
+    let view_reports: Vec<MapViewReport> = (0..w)
+        .map(|v| {
+            let xi = problem.correction(&state.corrections, v);
+            let h = state
+                .data
+                .hessian
+                .fixed_view::<6, 6>(6 * v, 6 * v)
+                .into_owned();
+            MapViewReport {
+                inliers: state.data.inliers[v],
+                correction: xi.into(),
+                chi2: problem.chi2(&state.corrections, v),
+                held_at_prior: held[v],
+                unconstrained: v != reference && state.data.inliers[v] == 0,
+                data_information: h,
+            }
+        })
+        .collect();
+    let converged = stop == StopReason::Converged;
+    let fell = state.objective <= objective_initial;
+    let held_views: Vec<usize> = (0..w).filter(|&v| held[v]).collect();
+    let verdict = match (converged, fell) {
+        (false, _) => format!("not converged ({stop:?}): the reported poses are kept"),
+        (true, false) => "the objective did not fall: the reported poses are kept".into(),
+        (true, true) if held_views.is_empty() => {
+            "converged, the objective fell, every view within the χ² gate of its prior".into()
+        }
+        (true, true) => format!(
+            "converged, the objective fell; views {held_views:?} beyond the χ² gate kept their \
+             reported poses"
+        ),
+    };
+    let report = MapReport {
+        iterations,
+        evaluations,
+        stop,
+        objective_initial,
+        objective_final: state.objective,
+        pairs: problem.pairs.len(),
+        inliers: state.data.inlier_count,
+        rms,
+        accepted: converged && fell,
+        verdict,
+        views: view_reports,
+    };
+    Ok(Registration {
+        poses,
+        converged,
+        rms,
+        report: MethodReport::Map(Box::new(report)),
+    })
+}
+
+impl Problem<'_> {
+    /// Every used point takes part.
+    fn unmask(&mut self) {
+        for pair in &mut self.pairs {
+            pair.mask = None;
+        }
+    }
+
+    /// Only the points flagged in `matched` (per pair) take part.
+    fn mask(&mut self, matched: Vec<Vec<bool>>) {
+        for (pair, m) in self.pairs.iter_mut().zip(matched) {
+            pair.mask = Some(m);
+        }
+    }
+
+    /// [`solve`](Self::solve), then the χ² gate: the worst view beyond it is held at its
+    /// prior (its flag set in `held`) and the rest solved again, until every view passes.
+    fn solve_gated(
+        &self,
+        mut state: State,
+        held: &mut [bool],
+        params: &RegistrationParams,
+    ) -> (State, StopReason, usize, usize) {
+        let (mut iterations, mut evaluations) = (0, 0);
+        loop {
+            let (next, stop, its, evals) = self.solve(state, held, params);
+            state = next;
+            iterations += its;
+            evaluations += evals;
+            let worst = (0..held.len())
+                .filter(|&v| v != self.reference && !held[v])
+                .filter_map(|v| self.chi2(&state.corrections, v).map(|c| (v, c)))
+                .filter(|&(_, c)| c > params.map.gate_chi2)
+                .max_by(|a, b| a.1.total_cmp(&b.1));
+            match worst {
+                Some((v, _)) => {
+                    held[v] = true;
+                    let mut corrections = state.corrections;
+                    corrections[v] = Pose::identity();
+                    state = self.state(corrections);
+                    evaluations += 1;
+                }
+                None => return (state, stop, iterations, evaluations),
+            }
+        }
+    }
+
+    /// The state at `corrections`, its data term evaluated.
+    fn state(&self, corrections: Vec<Pose>) -> State {
+        let data = self.data(&corrections);
+        let objective = data.cost + self.prior_cost(&corrections);
+        State {
+            corrections,
+            data,
+            objective,
+        }
+    }
+
+    fn data(&self, corrections: &[Pose]) -> DataTerm {
+        let poses: Vec<Pose> = corrections
+            .iter()
+            .zip(self.initial)
+            .map(|(c, p)| c * p)
+            .collect();
+        let centres: Vec<Point3<f64>> = corrections
+            .iter()
+            .zip(&self.origins)
+            .map(|(c, o)| c * o)
+            .collect();
+        map_terms::evaluate(&self.views, &self.pairs, &poses, &centres, &self.kernel)
+    }
+
+    /// `ξ = (ω, t)` of view `v`'s correction about its sensor origin.
+    fn correction(&self, corrections: &[Pose], v: usize) -> Vector6<f64> {
+        let c = &corrections[v];
+        let o = self.origins[v];
+        let w = c.rotation.scaled_axis();
+        let t = c * o - o;
+        Vector6::new(w.x, w.y, w.z, t.x, t.y, t.z)
+    }
+
+    /// The prior's χ² of view `v`'s correction (`None` without a prior or for the
+    /// reference).
+    fn chi2(&self, corrections: &[Pose], v: usize) -> Option<f64> {
+        if v == self.reference {
+            return None;
+        }
+        let prior = self.models[v].prior?;
+        Some(prior.chi2(&self.correction(corrections, v)))
+    }
+
+    fn prior_cost(&self, corrections: &[Pose]) -> f64 {
+        (0..corrections.len())
+            .filter_map(|v| self.chi2(corrections, v))
+            .map(|c| 0.5 * c)
+            .sum()
+    }
+
+    /// Levenberg–Marquardt over the views that are neither the reference nor `held`, from
+    /// `state`. Returns the final state, why it stopped, accepted steps and evaluations.
+    fn solve(
+        &self,
+        mut state: State,
+        held: &[bool],
+        params: &RegistrationParams,
+    ) -> (State, StopReason, usize, usize) {
+        let free: Vec<usize> = (0..held.len())
+            .filter(|&v| v != self.reference && !held[v])
+            .collect();
+        if free.is_empty() {
+            return (state, StopReason::Converged, 0, 0);
+        }
+        let n = 6 * free.len();
+        let mut lambda = LAMBDA_START;
+        let (mut iterations, mut evaluations) = (0, 0);
+        loop {
+            if iterations == params.map.max_iterations {
+                return (state, StopReason::MaxIterations, iterations, evaluations);
+            }
+            let (a, b) = self.normal_equations(&state, &free, n);
+            let step = loop {
+                let mut damped = a.clone();
+                for k in 0..n {
+                    damped[(k, k)] += lambda * a[(k, k)].max(1e-12);
+                }
+                let Some(chol) = damped.cholesky() else {
+                    lambda *= 10.0;
+                    if lambda > LAMBDA_MAX {
+                        return (state, StopReason::Degenerate, iterations, evaluations);
+                    }
+                    continue;
+                };
+                let delta = -chol.solve(&b);
+                let corrections = self.apply(&state.corrections, &free, &delta);
+                // A step shrunk by heavy damping says nothing about convergence.
+                let small = lambda <= SMALL_STEP_LAMBDA
+                    && self.is_small(&state.corrections, &free, &delta, params);
+                let trial = self.state(corrections);
+                evaluations += 1;
+                if trial.objective < state.objective {
+                    lambda = (lambda / 3.0).max(1e-9);
+                    break Some((trial, small));
+                }
+                if small || lambda > LAMBDA_MAX {
+                    break None;
+                }
+                lambda *= 5.0;
+            };
+            match step {
+                Some((trial, small)) => {
+                    state = trial;
+                    iterations += 1;
+                    if small {
+                        return (state, StopReason::Converged, iterations, evaluations);
+                    }
+                }
+                // No step lowers F: the poses are a minimum to within the tolerance.
+                None => return (state, StopReason::Converged, iterations, evaluations),
+            }
+        }
+    }
+
+    /// The undamped system `A δ = −b` of the free views (data plus prior).
+    fn normal_equations(
+        &self,
+        state: &State,
+        free: &[usize],
+        n: usize,
+    ) -> (DMatrix<f64>, DVector<f64>) {
+        let mut a = DMatrix::zeros(n, n);
+        let mut b = DVector::zeros(n);
+        for (i, &v) in free.iter().enumerate() {
+            for (j, &u) in free.iter().enumerate() {
+                a.fixed_view_mut::<6, 6>(6 * i, 6 * j)
+                    .copy_from(&state.data.hessian.fixed_view::<6, 6>(6 * v, 6 * u));
+            }
+            let mut bi = b.fixed_rows_mut::<6>(6 * i);
+            bi.copy_from(&state.data.gradient.fixed_rows::<6>(6 * v));
+            if let Some(prior) = self.models[v].prior {
+                let info: Matrix6<f64> = prior.information();
+                let mut block = a.fixed_view_mut::<6, 6>(6 * i, 6 * i);
+                block += info;
+                bi += info * self.correction(&state.corrections, v);
+            }
+        }
+        (a, b)
+    }
+
+    /// The corrections after the perturbation `delta` of the free views, each about its
+    /// current centre: `x ↦ R(δω)·(x − c) + c + δt`.
+    fn apply(&self, corrections: &[Pose], free: &[usize], delta: &DVector<f64>) -> Vec<Pose> {
+        let mut out = corrections.to_vec();
+        for (i, &v) in free.iter().enumerate() {
+            let d = delta.fixed_rows::<6>(6 * i);
+            let c = corrections[v] * self.origins[v];
+            let rotation = UnitQuaternion::from_scaled_axis(d.fixed_rows::<3>(0).into_owned());
+            let step = Translation3::from(c.coords + d.fixed_rows::<3>(3).into_owned())
+                * rotation
+                * Translation3::from(-c.coords);
+            out[v] = step * corrections[v];
+        }
+        out
+    }
+
+    /// Whether a perturbation turns no free view by more than the rotation tolerance and
+    /// moves no free view's centroid by more than the translation tolerance.
+    fn is_small(
+        &self,
+        corrections: &[Pose],
+        free: &[usize],
+        delta: &DVector<f64>,
+        params: &RegistrationParams,
+    ) -> bool {
+        free.iter().enumerate().all(|(i, &v)| {
+            let d = delta.fixed_rows::<6>(6 * i);
+            let w = d.fixed_rows::<3>(0).into_owned();
+            let c = corrections[v] * self.origins[v];
+            let centroid = corrections[v] * (self.initial[v] * self.views[v].tree.centroid());
+            let moved = w.cross(&(centroid - c)) + d.fixed_rows::<3>(3);
+            w.norm() <= params.map.rotation_tolerance
+                && moved.norm() <= params.map.translation_tolerance
+        })
+    }
+}
+
+/// The directed pairs of the data term: every non-reference view into the reference view
+/// (weight 1, all points) and, with `view_to_view`, into every other view (weight ½ per
+/// direction, at most `pair_points` points), kept when at least 5 % of a sample of the source's points has a
+/// target point within `d_max` at the initial poses.
+fn select_pairs(
+    views: &[MapView],
+    initial: &[Pose],
+    reference: usize,
+    kernel: &Kernel,
+    pair_points: usize,
+    view_to_view: bool,
+) -> Vec<Pair> {
+    let w = views.len();
+    let candidates: Vec<(usize, usize)> = (0..w)
+        .filter(|&v| v != reference)
+        .flat_map(|v| (0..w).filter(move |&t| t != v).map(move |t| (v, t)))
+        .collect();
+    let overlaps: Vec<f64> = candidates
+        .par_iter()
+        .map(|&(v, t)| {
+            let to_target = initial[t].inverse() * initial[v];
+            let points = views[v].tree.points();
+            let step = points.len().div_ceil(OVERLAP_SAMPLES).max(1);
+            let sampled = points.iter().step_by(step);
+            let (hits, all) = sampled.fold((0usize, 0usize), |(h, a), p| {
+                let hit = views[t]
+                    .tree
+                    .nearest_within(&(to_target * p), kernel.max_distance)
+                    .is_some();
+                (h + usize::from(hit), a + 1)
+            });
+            hits as f64 / all.max(1) as f64
+        })
+        .collect();
+    candidates
+        .into_iter()
+        .zip(overlaps)
+        .filter(|&((_, t), overlap)| overlap >= 0.05 && (view_to_view || t == reference))
+        .map(|((v, t), _)| {
+            if t == reference {
+                Pair {
+                    source: v,
+                    target: t,
+                    weight: 1.0,
+                    stride: 1,
+                    mask: None,
+                }
+            } else {
+                Pair {
+                    source: v,
+                    target: t,
+                    weight: 0.5,
+                    stride: views[v].len().div_ceil(pair_points.max(1)).max(1),
+                    mask: None,
+                }
+            }
+        })
+        .collect()
+}

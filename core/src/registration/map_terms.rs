@@ -1,0 +1,291 @@
+//! The data term of the maximum a posteriori registration, at given poses: correspondences
+//! (each source point's nearest point of a target view within `d_max`), their residuals
+//! weighted by the sensors' noise, the robust kernel, and the Gauss–Newton normal
+//! equations of all views at once.
+//!
+//! A correspondence pairs a source point `x` (view `v`) with the surfel `y` of its nearest
+//! target point (view `w`). Its residual `e = x − y` (world frame) has the covariance
+//! `C = σ_x²·u_x u_xᵀ + σ_y²·u_y u_yᵀ + σ_f²·I + T`: each sensor's range noise along its
+//! own viewing ray `u` (isotropic where the ray is unknown), a floor `σ_f`, and `T` the
+//! freedom to slide along the surface — `L²·(I − n nᵀ)` with `L = d_max` where the target
+//! surfel has a normal `n` (point-to-plane), else `(s/2)²·I` for the target's point
+//! spacing `s` (point-to-point). The cost of a correspondence is the truncated Cauchy
+//! kernel `ρ(m²) = c²/2·ln(1 + m²/c²)` of its Mahalanobis distance `m² = eᵀC⁻¹e`, capped at
+//! `m = cap`; a source point without a target point within `d_max` costs the cap. The
+//! whole data term is therefore a function of the poses alone, which is what lets the
+//! solver reject any step that raises it.
+//!
+//! Work is split into fixed chunks of (pair, source points), summed in chunk order: the
+//! result is identical at any thread count.
+
+use nalgebra::{DMatrix, DVector, Matrix3, Matrix3x6, Matrix6, Point3, Vector3, Vector6};
+use rayon::prelude::*;
+
+use super::map_view::MapView;
+use crate::math::Pose;
+
+/// Source points per parallel work item.
+const CHUNK: usize = 256;
+
+/// A target surfel whose normal faces away from the source's sensor by more than this
+/// cosine cannot be what the source saw (the far side of a thin object seen from the
+/// other side): the point counts as without correspondence.
+const MIN_FACING: f64 = 0.1;
+
+/// One directed term set: points of `source` matched into `target`.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Pair {
+    /// The view whose points are matched.
+    pub source: usize,
+    /// The view they are matched into.
+    pub target: usize,
+    /// Weight of the pair's costs (½ for each direction of a symmetric pair).
+    pub weight: f64,
+    /// Every `stride`-th source point is used.
+    pub stride: usize,
+    /// Which of the used points take part (by used index); `None`: all. A point outside
+    /// the mask costs nothing wherever the views move, so the objective cannot gain by
+    /// dragging unseen surfaces onto seen ones.
+    pub mask: Option<Vec<bool>>,
+}
+
+impl Pair {
+    /// Points of the source used by this pair.
+    pub(crate) fn used(&self, views: &[MapView]) -> usize {
+        views[self.source].len().div_ceil(self.stride)
+    }
+}
+
+/// The kernel and noise constants of the data term.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Kernel {
+    /// Cauchy scale `c` (in σ).
+    pub scale: f64,
+    /// Cap `m` beyond which a correspondence is an outlier (in σ).
+    pub cap: f64,
+    /// Floor σ added to every residual (m).
+    pub floor: f64,
+    /// A point counts as matched (for masks) within this many σ.
+    pub select: f64,
+    /// `d_max` (m).
+    pub max_distance: f64,
+}
+
+impl Kernel {
+    /// The cost of a squared Mahalanobis distance, and its IRLS weight (0 beyond the cap).
+    fn cost(&self, m2: f64) -> (f64, f64) {
+        let c2 = self.scale * self.scale;
+        let m2c = m2.min(self.cap * self.cap);
+        let cost = 0.5 * c2 * (1.0 + m2c / c2).ln();
+        let weight = if m2 < self.cap * self.cap {
+            1.0 / (1.0 + m2 / c2)
+        } else {
+            0.0
+        };
+        (cost, weight)
+    }
+
+    /// The cost of a point with no correspondence.
+    pub(crate) fn outlier_cost(&self) -> f64 {
+        self.cost(f64::INFINITY).0
+    }
+}
+
+/// The data term at some poses, with its normal equations over all views
+/// (`6·views` unknowns: rotation then translation per view, as perturbations about each
+/// view's current correction centre).
+#[derive(Debug, Clone)]
+pub(crate) struct DataTerm {
+    /// Σ weight·ρ over all used source points.
+    pub cost: f64,
+    /// Gauss–Newton Hessian.
+    pub hessian: DMatrix<f64>,
+    /// Gradient.
+    pub gradient: DVector<f64>,
+    /// Inlier correspondences per view (as source or target).
+    pub inliers: Vec<usize>,
+    /// Inlier correspondences in all.
+    pub inlier_count: usize,
+    /// Σ |e|² over inliers (m²).
+    pub sum_sq: f64,
+    /// Per pair, per used source point: matched within `Kernel::select` σ.
+    pub matched: Vec<Vec<bool>>,
+}
+
+/// Partial sums of one work item.
+struct Sums {
+    cost: f64,
+    hvv: Matrix6<f64>,
+    hvw: Matrix6<f64>,
+    hww: Matrix6<f64>,
+    gv: Vector6<f64>,
+    gw: Vector6<f64>,
+    inliers: usize,
+    sum_sq: f64,
+    matched: Vec<bool>,
+}
+
+/// Evaluates the data term of `pairs` at the poses `poses` (view → world), the
+/// perturbation of view `v` being centred at `centres[v]` (world).
+pub(crate) fn evaluate(
+    views: &[MapView],
+    pairs: &[Pair],
+    poses: &[Pose],
+    centres: &[Point3<f64>],
+    kernel: &Kernel,
+) -> DataTerm {
+    let items: Vec<(usize, usize)> = pairs
+        .iter()
+        .enumerate()
+        .flat_map(|(p, pair)| (0..pair.used(views).div_ceil(CHUNK)).map(move |c| (p, c)))
+        .collect();
+    let sums: Vec<Sums> = items
+        .par_iter()
+        .map(|&(p, c)| chunk_sums(views, &pairs[p], c, poses, centres, kernel))
+        .collect();
+    let w = views.len();
+    let mut term = DataTerm {
+        cost: 0.0,
+        hessian: DMatrix::zeros(6 * w, 6 * w),
+        gradient: DVector::zeros(6 * w),
+        inliers: vec![0; w],
+        inlier_count: 0,
+        sum_sq: 0.0,
+        matched: vec![Vec::new(); pairs.len()],
+    };
+    for (&(p, _), s) in items.iter().zip(sums) {
+        let (v, t) = (pairs[p].source, pairs[p].target);
+        term.matched[p].extend_from_slice(&s.matched);
+        term.cost += s.cost;
+        add_block(&mut term.hessian, v, v, &s.hvv);
+        add_block(&mut term.hessian, t, t, &s.hww);
+        add_block(&mut term.hessian, v, t, &s.hvw);
+        add_block(&mut term.hessian, t, v, &s.hvw.transpose());
+        let mut gv = term.gradient.fixed_rows_mut::<6>(6 * v);
+        gv += s.gv;
+        let mut gw = term.gradient.fixed_rows_mut::<6>(6 * t);
+        gw += s.gw;
+        term.inliers[v] += s.inliers;
+        term.inliers[t] += s.inliers;
+        term.inlier_count += s.inliers;
+        term.sum_sq += s.sum_sq;
+    }
+    term
+}
+
+fn add_block(h: &mut DMatrix<f64>, a: usize, b: usize, block: &Matrix6<f64>) {
+    let mut view = h.fixed_view_mut::<6, 6>(6 * a, 6 * b);
+    view += block;
+}
+
+/// `∂x/∂(ω, t)` of a point `x` moved by a perturbation about `centre`.
+fn jacobian(x: &Point3<f64>, centre: &Point3<f64>) -> Matrix3x6<f64> {
+    let mut j = Matrix3x6::zeros();
+    let r = x - centre;
+    j.fixed_view_mut::<3, 3>(0, 0)
+        .copy_from(&(-r.cross_matrix()));
+    j.fixed_view_mut::<3, 3>(0, 3)
+        .copy_from(&Matrix3::identity());
+    j
+}
+
+/// The noise of a point along its ray `u` (world), or isotropic without one.
+fn ray_covariance(u: &Vector3<f64>, variance: f64) -> Matrix3<f64> {
+    if u.norm_squared() > 0.5 {
+        u * u.transpose() * variance
+    } else {
+        Matrix3::identity() * variance
+    }
+}
+
+fn chunk_sums(
+    views: &[MapView],
+    pair: &Pair,
+    chunk: usize,
+    poses: &[Pose],
+    centres: &[Point3<f64>],
+    kernel: &Kernel,
+) -> Sums {
+    let (src, dst) = (&views[pair.source], &views[pair.target]);
+    let (ps, pt) = (&poses[pair.source], &poses[pair.target]);
+    let to_target = pt.inverse() * ps;
+    // The source's sensor (world): it can only have seen target surfaces that face it.
+    let eye = ps * src.centre;
+    let slide = 0.25 * dst.spacing * dst.spacing;
+    let plane_slack = kernel.max_distance * kernel.max_distance;
+    let floor = kernel.floor * kernel.floor;
+    let mut s = Sums {
+        cost: 0.0,
+        hvv: Matrix6::zeros(),
+        hvw: Matrix6::zeros(),
+        hww: Matrix6::zeros(),
+        gv: Vector6::zeros(),
+        gw: Vector6::zeros(),
+        inliers: 0,
+        sum_sq: 0.0,
+        matched: Vec::with_capacity(CHUNK),
+    };
+    let used = pair.used(views);
+    for k in chunk * CHUNK..((chunk + 1) * CHUNK).min(used) {
+        s.matched.push(false);
+        if pair.mask.as_ref().is_some_and(|m| !m[k]) {
+            continue;
+        }
+        let i = k * pair.stride;
+        let local = src.tree.points()[i];
+        let Some(j) = dst
+            .tree
+            .nearest_within(&(to_target * local), kernel.max_distance)
+        else {
+            s.cost += pair.weight * kernel.outlier_cost();
+            continue;
+        };
+        let surfel = &dst.surfels[j];
+        let x = ps * local;
+        let y = pt * surfel.position;
+        if let Some(n) = surfel.normal.filter(|_| dst.rays[j] != Vector3::zeros()) {
+            let to_eye = eye - y;
+            if (pt.rotation * n).dot(&to_eye) < -MIN_FACING * to_eye.norm() {
+                s.cost += pair.weight * kernel.outlier_cost();
+                continue;
+            }
+        }
+        let e = x - y;
+        let sx = src.sigmas[i];
+        let mut cov = ray_covariance(&(ps.rotation * src.rays[i]), sx * sx)
+            + ray_covariance(&(pt.rotation * dst.rays[j]), surfel.variance)
+            + Matrix3::identity() * floor;
+        cov += match surfel.normal {
+            Some(n) => {
+                let n = pt.rotation * n;
+                (Matrix3::identity() - n * n.transpose()) * plane_slack
+            }
+            None => Matrix3::identity() * slide,
+        };
+        let Some(info) = cov.try_inverse() else {
+            s.cost += pair.weight * kernel.outlier_cost();
+            continue;
+        };
+        let m2 = e.dot(&(info * e));
+        if let Some(last) = s.matched.last_mut() {
+            *last = m2 <= kernel.select * kernel.select;
+        }
+        let (cost, weight) = kernel.cost(m2);
+        s.cost += pair.weight * cost;
+        if weight == 0.0 {
+            continue;
+        }
+        s.inliers += 1;
+        s.sum_sq += e.norm_squared();
+        let w = pair.weight * weight;
+        let jv = jacobian(&x, &centres[pair.source]);
+        let jw = -jacobian(&y, &centres[pair.target]);
+        let (ivj, iwj) = (info * jv, info * jw);
+        s.hvv += jv.transpose() * ivj * w;
+        s.hww += jw.transpose() * iwj * w;
+        s.hvw += jv.transpose() * iwj * w;
+        s.gv += jv.transpose() * (info * e) * w;
+        s.gw += jw.transpose() * (info * e) * w;
+    }
+    s
+}

@@ -1,0 +1,269 @@
+//! The MAP registration on synthetic views with known truth: a view with a known offset
+//! comes back within the noise bound; a view without overlap keeps its prior and says
+//! so; a symmetric object keeps the prior's rotation about its axis; the objective never
+//! rises; the result is the same at any thread count.
+
+use nalgebra::{Isometry3, Point3, Unit, UnitQuaternion, Vector3};
+use nbv_core::cloud::PointCloud;
+use nbv_core::evaluation::alignment_error;
+use nbv_core::math::Pose;
+use nbv_core::registration::{
+    MapReport, Method, MethodReport, PosePrior, RangeNoise, Registration, RegistrationParams,
+    ViewModel, register_with_models,
+};
+use proptest::prelude::*;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::StandardNormal;
+
+/// A bumpy surface z = f(x, y) seen from above (no symmetry).
+fn bumpy(x: f64, y: f64) -> Point3<f64> {
+    Point3::new(
+        x,
+        y,
+        0.01 * (110.0 * x).sin() * (90.0 * y).cos() + 0.006 * (150.0 * (x + 0.5 * y)).sin(),
+    )
+}
+
+/// A view of true points `truth` from `sensor` with range noise `sigma` (seeded), moved by
+/// `error` (the reported pose's error: the points as the robot would place them).
+fn view(
+    truth: Vec<Point3<f64>>,
+    sensor: Point3<f64>,
+    sigma: f64,
+    seed: u64,
+    error: &Pose,
+) -> PointCloud {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let points: Vec<Point3<f64>> = truth
+        .iter()
+        .map(|t| {
+            let ray = (t - sensor).normalize();
+            let n: f64 = rng.sample(StandardNormal);
+            error * (t + ray * sigma * n)
+        })
+        .collect();
+    let mut cloud = PointCloud::from_points(points);
+    cloud.origins = Some(vec![error * sensor; truth.len()]);
+    cloud.truth = Some(truth);
+    cloud
+}
+
+fn grid(x0: f64, x1: f64, y0: f64, y1: f64, step: f64) -> Vec<Point3<f64>> {
+    let nx = ((x1 - x0) / step) as usize;
+    let ny = ((y1 - y0) / step) as usize;
+    (0..nx)
+        .flat_map(|i| (0..ny).map(move |j| bumpy(x0 + i as f64 * step, y0 + j as f64 * step)))
+        .collect()
+}
+
+fn params() -> RegistrationParams {
+    let mut p = RegistrationParams {
+        method: Method::Map,
+        max_correspondence_distance: 0.03,
+        ..Default::default()
+    };
+    p.map.view_to_view = false;
+    p
+}
+
+fn models(n: usize, camera_sigma: f64, prior: PosePrior) -> Vec<ViewModel> {
+    (0..n)
+        .map(|k| ViewModel {
+            noise: RangeNoise::constant(if k == 0 { 0.0005 } else { camera_sigma }),
+            prior: (k > 0).then_some(prior),
+        })
+        .collect()
+}
+
+fn map_report(r: &Registration) -> &MapReport {
+    match &r.report {
+        MethodReport::Map(m) => m,
+        _ => panic!("not a MAP report"),
+    }
+}
+
+/// The laser view (front, accurate) and a camera view that overlaps it, the camera's
+/// reported pose off by `error`.
+fn two_views(error: &Pose, camera_sigma: f64, seed: u64) -> Vec<PointCloud> {
+    let laser = view(
+        grid(0.0, 0.12, 0.0, 0.12, 0.004),
+        Point3::new(0.06, -0.5, 1.0),
+        0.0005,
+        seed,
+        &Pose::identity(),
+    );
+    let camera = view(
+        grid(0.03, 0.15, 0.02, 0.14, 0.003),
+        Point3::new(0.09, 0.08, 0.45),
+        camera_sigma,
+        seed + 1,
+        error,
+    );
+    vec![laser, camera]
+}
+
+#[test]
+fn a_known_offset_returns_to_truth_within_the_noise_bound() {
+    let axis = Unit::new_normalize(Vector3::new(0.3, -0.5, 0.8));
+    let error = Pose::from_parts(
+        Vector3::new(0.004, -0.003, 0.002).into(),
+        UnitQuaternion::from_axis_angle(&axis, 1f64.to_radians()),
+    );
+    let views = two_views(&error, 0.004, 7);
+    let prior = PosePrior {
+        rotation_sigma: 0.6f64.to_radians(),
+        translation_sigma: 0.004,
+    };
+    let initial = vec![Pose::identity(); 2];
+    let r = register_with_models(&views, &initial, &models(2, 0.004, prior), &params()).unwrap();
+    let start = alignment_error(&views[1..], &initial[1..]).mean;
+    let end = alignment_error(&views[1..], &r.poses[1..]).mean;
+    let report = map_report(&r);
+    assert!(r.converged && report.accepted, "{}", report.verdict);
+    assert!(report.objective_final < report.objective_initial);
+    // At most half the starting error (measured: 4.7 -> 1.3 mm; the noise alone would
+    // allow a few tenths of a millimetre, which this patch does not reach).
+    assert!(end < 0.5 * start, "{end} vs {start}");
+    assert!(end < 1.5e-3, "end {end} (start {start})");
+    assert_eq!(r.poses[0], initial[0]);
+}
+
+#[test]
+fn a_view_without_overlap_keeps_its_prior_and_is_flagged() {
+    let error = Pose::translation(0.003, 0.0, 0.0);
+    let mut views = two_views(&error, 0.004, 3);
+    // Move the camera view half a metre away from everything.
+    views[1].transform(&Pose::translation(0.5, 0.0, 0.0));
+    let prior = PosePrior {
+        rotation_sigma: 0.01,
+        translation_sigma: 0.004,
+    };
+    let initial = vec![Pose::identity(); 2];
+    let r = register_with_models(&views, &initial, &models(2, 0.004, prior), &params()).unwrap();
+    let report = map_report(&r);
+    assert!(report.views[1].unconstrained);
+    assert_eq!(report.views[1].inliers, 0);
+    assert!((r.poses[1].to_homogeneous() - initial[1].to_homogeneous()).norm() < 1e-12);
+}
+
+#[test]
+fn a_symmetric_object_keeps_the_priors_rotation_about_its_axis() {
+    // A cylinder of radius 5 cm about the vertical axis through (0.5, 0, 0).
+    let centre = Point3::new(0.5, 0.0, 0.0);
+    let at = |a: f64, z: f64| centre + Vector3::new(0.05 * a.cos(), 0.05 * a.sin(), z);
+    let band = |a0: f64, a1: f64, z0: f64, z1: f64| -> Vec<Point3<f64>> {
+        (0..60)
+            .flat_map(|i| {
+                (0..30).map(move |j| {
+                    at(
+                        a0 + (a1 - a0) * i as f64 / 60.0,
+                        z0 + (z1 - z0) * j as f64 / 30.0,
+                    )
+                })
+            })
+            .collect()
+    };
+    let pi = std::f64::consts::PI;
+    let laser = view(
+        band(0.6 * pi, 1.4 * pi, -0.05, 0.05),
+        Point3::new(-0.5, 0.0, 0.3),
+        0.0005,
+        1,
+        &Pose::identity(),
+    );
+    // The camera sees a sector overlapping the laser's, its reported pose turned 1.5°
+    // about the cylinder's axis (which the data cannot see) and 3 mm off sideways.
+    let spin = Pose::rotation_wrt_point(
+        UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 1.5f64.to_radians()),
+        centre,
+    );
+    let error = Pose::translation(0.0, 0.003, 0.0) * spin;
+    let camera = view(
+        band(0.9 * pi, 1.7 * pi, -0.04, 0.04),
+        Point3::new(0.3, -0.35, 0.1),
+        0.003,
+        2,
+        &error,
+    );
+    let views = vec![laser, camera];
+    let initial = vec![Pose::identity(); 2];
+    let prior = PosePrior {
+        rotation_sigma: 0.02,
+        translation_sigma: 0.005,
+    };
+    let r = register_with_models(&views, &initial, &models(2, 0.003, prior), &params()).unwrap();
+    assert!(map_report(&r).accepted);
+    // What is left of the error: the spin about the axis, and nothing else.
+    let left = r.poses[1] * error;
+    let turned = left.rotation.scaled_axis();
+    // (The band's finite extent tells a little: 0.3° of the 1.5° move, measured.)
+    assert!(
+        (turned.z - 1.5f64.to_radians()).abs() < 0.4f64.to_radians(),
+        "axis rotation {:.3}°",
+        turned.z.to_degrees()
+    );
+    // The tilt of the axis is left within the noise: 0.5° moves the 8 cm band's ends by
+    // 0.35 mm, a tenth of the camera's σ.
+    assert!(turned.xy().norm() < 0.5f64.to_radians(), "{turned}");
+    // The sideways error is not made worse (it is not removed either on this band: the
+    // view stays at its prior — a gap of this release).
+    let axis_error = (left * centre - centre).xy().norm();
+    assert!(axis_error <= 0.0031, "axis moved {axis_error}");
+}
+
+#[test]
+fn the_result_is_the_same_at_any_thread_count() {
+    let error = Isometry3::new(
+        Vector3::new(0.003, 0.002, -0.002),
+        Vector3::new(0.01, 0.0, -0.01),
+    );
+    let views = two_views(&error, 0.004, 11);
+    let prior = PosePrior {
+        rotation_sigma: 0.01,
+        translation_sigma: 0.004,
+    };
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                register_with_models(
+                    &views,
+                    &[Pose::identity(); 2],
+                    &models(2, 0.004, prior),
+                    &params(),
+                )
+                .unwrap()
+            })
+    };
+    assert_eq!(run(1), run(2));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
+
+    /// Whatever the reported error within the prior, the objective does not rise, the
+    /// registered view ends no farther from the truth than it started (by more than
+    /// 0.2 mm), and never beyond the χ² gate. (How far it gets is not asserted here: from
+    /// some starts this near-2.5-D patch leaves most of a pure shift along x in place.)
+    #[test]
+    fn never_worse_than_the_reported_pose(
+        t in prop::array::uniform3(-0.006f64..0.006),
+        w in prop::array::uniform3(-0.012f64..0.012),
+        seed in 0u64..1000,
+    ) {
+        let error = Isometry3::new(Vector3::from(t), Vector3::from(w));
+        let views = two_views(&error, 0.004, seed);
+        let prior = PosePrior { rotation_sigma: 0.01, translation_sigma: 0.005 };
+        let initial = vec![Pose::identity(); 2];
+        let r = register_with_models(&views, &initial, &models(2, 0.004, prior), &params()).unwrap();
+        let report = map_report(&r);
+        prop_assert!(report.objective_final <= report.objective_initial);
+        let start = alignment_error(&views[1..], &initial[1..]).mean;
+        let end = alignment_error(&views[1..], &r.poses[1..]).mean;
+        prop_assert!(end <= start + 2e-4, "end {} start {}", end, start);
+        prop_assert!(report.views[1].chi2.unwrap() <= 22.458);
+    }
+}

@@ -1,0 +1,169 @@
+//! Registers the views an episode wrote (`RUN/objects/<name>/views/view_NN.ply`, which
+//! carry their sensor origins and true points) with each method, and prints per view how
+//! far each leaves it from the truth — the study behind the registration's defaults.
+//!
+//! ```sh
+//! cargo run --release -- explore --scene paper-env1 -o run/ --no-pictures
+//! cargo run --release --example register_views -- run/objects/jug/views paper-env1
+//! ```
+
+use nbv_core::cloud::PointCloud;
+use nbv_core::cloud::io::read_cloud;
+use nbv_core::evaluation::alignment_error;
+use nbv_core::math::Pose;
+use nbv_core::registration::{Method, MethodReport, RegistrationParams, register_with_models};
+use std::time::Instant;
+
+fn subsample(cloud: &PointCloud, n: usize) -> PointCloud {
+    if cloud.len() <= n {
+        return cloud.clone();
+    }
+    let idx: Vec<usize> = (0..n).map(|k| k * cloud.len() / n).collect();
+    cloud.select(&idx)
+}
+
+fn main() -> anyhow::Result<()> {
+    let args: Vec<String> = std::env::args().collect();
+    let (dir, scene) = match &args[..] {
+        [_, dir, scene, ..] => (dir.clone(), scene.clone()),
+        _ => anyhow::bail!("usage: register_views VIEWS_DIR SCENE"),
+    };
+    let scene = nbv_scenes::builtin::load(&scene)?;
+    let config = scene.explore_config(nbv_core::pipeline::ExploreMode::Hybrid)?;
+    let mut paths: Vec<_> = std::fs::read_dir(&dir)?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "ply"))
+        .collect();
+    paths.sort();
+    let mut views: Vec<PointCloud> = paths
+        .iter()
+        .map(|p| read_cloud(p).map(|c| subsample(&c, config.registration_points)))
+        .collect::<Result<_, _>>()?;
+    if std::env::var_os("TRUTH_POINTS").is_some() {
+        for v in &mut views {
+            v.points = v.truth.clone().unwrap();
+        }
+    }
+    let initial = vec![Pose::identity(); views.len()];
+    let models = config
+        .uncertainty
+        .view_models(&views, config.frames_per_view);
+    println!("{:?}", config.uncertainty);
+    let per_view = |poses: &[Pose]| -> Vec<f64> {
+        views
+            .iter()
+            .zip(poses)
+            .map(|(v, p)| alignment_error(std::slice::from_ref(v), std::slice::from_ref(p)).mean)
+            .collect()
+    };
+    // The anchor's own misalignment, to see the others relative to it.
+    let anchor_fit = {
+        let v = &views[0];
+        nbv_core::registration::rigid_procrustes(&v.points, v.truth.as_ref().unwrap())?
+    };
+    let show = |name: &str, poses: &[Pose], secs: f64| {
+        let e = per_view(poses);
+        let mean = alignment_error(&views, poses).mean;
+        let cells: Vec<String> = e.iter().map(|x| format!("{:5.1}", x * 1e3)).collect();
+        println!(
+            "{name:<10} {:6.2} mm {secs:6.2} s | {}",
+            mean * 1e3,
+            cells.join(" ")
+        );
+        let rel: Vec<Pose> = poses.iter().map(|p| anchor_fit * p).collect();
+        let e = per_view(&rel);
+        let mean = alignment_error(&views, &rel).mean;
+        let cells: Vec<String> = e.iter().map(|x| format!("{:5.1}", x * 1e3)).collect();
+        println!(
+            "  rel.     {:6.2} mm          | {}",
+            mean * 1e3,
+            cells.join(" ")
+        );
+    };
+    show("acquired", &initial, 0.0);
+    for (name, method) in [
+        ("map", Method::Map),
+        ("p-icp-gpa", Method::Gpa),
+        (
+            "icp",
+            Method::SequentialIcp {
+                point_to_plane: false,
+            },
+        ),
+    ] {
+        let mut params = RegistrationParams {
+            method,
+            reference: 0,
+            ..config.registration.clone()
+        };
+        params.map.view_to_view = std::env::var_os("VIEW_TO_VIEW").is_some();
+        let t = Instant::now();
+        let r = register_with_models(&views, &initial, &models, &params)?;
+        show(name, &r.poses, t.elapsed().as_secs_f64());
+        if let MethodReport::Map(m) = &r.report {
+            println!(
+                "           {} steps, {} evaluations: {}",
+                m.iterations, m.evaluations, m.verdict
+            );
+        }
+    }
+    if std::env::var_os("FROM_TRUTH").is_some() {
+        // Start at the truth in the anchor's gauge, data only: does the data term keep it?
+        let truth: Vec<Pose> = views
+            .iter()
+            .map(|v| {
+                let fit =
+                    nbv_core::registration::rigid_procrustes(&v.points, v.truth.as_ref().unwrap())
+                        .unwrap();
+                anchor_fit.inverse() * fit
+            })
+            .collect();
+        show("truth", &truth, 0.0);
+        let chi: Vec<String> = views
+            .iter()
+            .zip(&truth)
+            .zip(&models)
+            .map(|((v, c), m)| {
+                let o = v
+                    .origins
+                    .as_ref()
+                    .map_or(nalgebra::Point3::origin(), |o| o[0]);
+                let w = c.rotation.scaled_axis();
+                let t = c * o - o;
+                let xi = nalgebra::Vector6::new(w.x, w.y, w.z, t.x, t.y, t.z);
+                if std::env::var_os("XI").is_some() {
+                    eprintln!(
+                        "xi rot {:.3} {:.3} {:.3} deg  t {:.1} {:.1} {:.1} mm",
+                        w.x.to_degrees(),
+                        w.y.to_degrees(),
+                        w.z.to_degrees(),
+                        t.x * 1e3,
+                        t.y * 1e3,
+                        t.z * 1e3
+                    );
+                }
+                m.prior
+                    .map_or("  -  ".into(), |p| format!("{:5.1}", p.chi2(&xi)))
+            })
+            .collect();
+        println!("true χ²               | {}", chi.join(" "));
+        let free: Vec<_> = models
+            .iter()
+            .map(|m| nbv_core::registration::ViewModel { prior: None, ..*m })
+            .collect();
+        let params = RegistrationParams {
+            method: Method::Map,
+            reference: 0,
+            ..config.registration.clone()
+        };
+        let r = register_with_models(&views, &truth, &free, &params)?;
+        show("map@truth", &r.poses, 0.0);
+        if let MethodReport::Map(m) = &r.report {
+            println!(
+                "           {} steps: obj {} -> {}",
+                m.iterations, m.objective_initial, m.objective_final
+            );
+        }
+    }
+    Ok(())
+}
