@@ -13,6 +13,13 @@
 //! ```
 //! A run skips the episodes whose row file exists, so an interrupted sweep resumes without
 //! losing or duplicating rows; `merge` unions the rows of shard directories.
+//!
+//! Every file is written atomically (`nbv_core::atomic_file`: a temporary `.NAME.XXXXXX.tmp`
+//! beside it, renamed when complete), so a killed run leaves no half-written file, but it
+//! can leave such temporary files, and the outputs of the episodes it was running. A run
+//! therefore first removes the temporary files of the sweep directory, `episodes/` and
+//! `plots/`, and starts each episode it runs in an empty directory (an episode without a
+//! row never finished; what its directory holds is from an interrupted run).
 
 use super::sweep_gate::{Gate, GateResult};
 use super::sweep_grid::{Episode, SweepGrid};
@@ -207,6 +214,7 @@ fn run_grid(args: RunArgs) -> Result<ExitCode> {
     }
     std::fs::create_dir_all(out.join("episodes"))
         .with_context(|| format!("creating {}", out.display()))?;
+    remove_stale_temporaries(out)?;
     write_json(&info_path, &info)?;
 
     let mine: Vec<Episode> = grid
@@ -259,10 +267,51 @@ fn run_grid(args: RunArgs) -> Result<ExitCode> {
 fn run_one(grid: &SweepGrid, e: &Episode, out: &Path, pictures: bool) -> Result<()> {
     let scene = e.scene(&grid.file)?;
     let dir = out.join("episodes").join(&e.id);
+    // No row: whatever the directory holds is from an interrupted run of this episode
+    // (partial outputs, temporary files of writes it never finished).
+    if dir.exists() {
+        std::fs::remove_dir_all(&dir)
+            .with_context(|| format!("removing the unfinished {}", dir.display()))?;
+    }
     let t = Instant::now();
     let report = super::explore::run_episode(&scene, e.mode, &dir, pictures, true)?;
     let row = EpisodeRow::new(e, &report, t.elapsed().as_secs_f64());
     write_json(&row_path(out, e), &row)
+}
+
+/// Whether `name` is the temporary file of an atomic write (`.NAME.XXXXXX.tmp`, see
+/// `nbv_core::atomic_file`).
+fn is_temporary(name: &str) -> bool {
+    name.len() > ".x..tmp".len() && name.starts_with('.') && name.ends_with(".tmp")
+}
+
+/// Removes the temporary files an interrupted run left in the sweep directory `out`, its
+/// `episodes/` and its `plots/` (the episodes' own directories are emptied when they run
+/// again); how many.
+fn remove_stale_temporaries(out: &Path) -> Result<usize> {
+    let mut removed = 0;
+    for dir in [out.to_path_buf(), out.join("episodes"), out.join("plots")] {
+        let Ok(entries) = std::fs::read_dir(&dir) else {
+            continue;
+        };
+        for entry in entries {
+            let entry = entry.with_context(|| format!("reading {}", dir.display()))?;
+            let stale = entry.file_type().is_ok_and(|t| t.is_file())
+                && is_temporary(&entry.file_name().to_string_lossy());
+            if stale {
+                std::fs::remove_file(entry.path())
+                    .with_context(|| format!("removing {}", entry.path().display()))?;
+                removed += 1;
+            }
+        }
+    }
+    if removed > 0 {
+        tracing::info!(
+            "{}: removed {removed} temporary file(s) of an interrupted run",
+            out.display()
+        );
+    }
+    Ok(removed)
 }
 
 fn row_path(out: &Path, e: &Episode) -> PathBuf {
@@ -457,6 +506,7 @@ fn merge(args: MergeArgs) -> Result<ExitCode> {
     let out = &args.output;
     std::fs::create_dir_all(out.join("episodes"))
         .with_context(|| format!("creating {}", out.display()))?;
+    remove_stale_temporaries(out)?;
     write_json(
         &out.join("sweep.json"),
         &SweepInfo {
@@ -483,5 +533,46 @@ mod tests {
         assert!("3/3".parse::<Shard>().is_err());
         assert!("0/0".parse::<Shard>().is_err());
         assert!("x".parse::<Shard>().unwrap_err().contains("I/N"));
+    }
+
+    #[test]
+    fn stale_temporaries_are_removed_and_nothing_else() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path();
+        std::fs::create_dir_all(out.join("episodes/0000-x")).unwrap();
+        let stale = [
+            ".results.csv.a1B2c3.tmp",
+            "episodes/.0000-x.row.json.Zz9yY8.tmp",
+        ];
+        let kept = [
+            "results.csv",
+            "episodes/0000-x.row.json",
+            ".hidden",
+            "notes.tmp",
+            // Inside an episode directory: that directory is emptied when the episode
+            // runs again, and left alone when it finished.
+            "episodes/0000-x/.report.json.q1w2e3.tmp",
+        ];
+        for f in stale.iter().chain(&kept) {
+            std::fs::write(out.join(f), "x").unwrap();
+        }
+        // A real temporary file of the atomic writer, kept by a writer that never finished.
+        let real = tempfile::Builder::new()
+            .prefix(".summary.json.")
+            .suffix(".tmp")
+            .tempfile_in(out)
+            .unwrap()
+            .keep()
+            .unwrap()
+            .1;
+        assert_eq!(remove_stale_temporaries(out).unwrap(), 3);
+        assert!(!real.exists());
+        for f in stale {
+            assert!(!out.join(f).exists(), "{f}");
+        }
+        for f in kept {
+            assert!(out.join(f).exists(), "{f}");
+        }
+        assert_eq!(remove_stale_temporaries(&out.join("missing")).unwrap(), 0);
     }
 }
