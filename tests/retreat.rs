@@ -1,15 +1,11 @@
 //! The retreat of the exploration (core/src/pipeline/exploration.rs): when no viewpoint of
 //! an object can be planned to from where the arm stands, it goes back along the paths it
-//! executed since phase 1 and samples again. In paper-env1 at seed 4 the mallet's twelfth
-//! view is reachable only that way (found with `nbv explore --scene paper-env1 --seed 4`:
-//! seven viewpoints fail to plan from the eleventh view's pose, then the retreat, then
-//! three more views, no collision. Seed 1, seed 4 with a cap of ten views per object, and
-//! the short-only baseline at seed 4 do not retreat.)
+//! executed since phase 1 and samples again. With a tight planner budget it happens on
+//! every paper-env1 object. (A natural case, paper-env1 at seed 4, retreated before the
+//! twin's pose error became one per standstill and the laser sweep was aligned to the
+//! workcell; it no longer does, and its test was removed.)
 //!
-//! The numbers (views, gains) may move with the registration and the twin's error model;
-//! the tests assert what a retreat means, not the counts. The second test, with a tight
-//! planner budget (retreats on all three objects at the scene's seed), leans less on one
-//! particular episode than the first.
+//! The test asserts what a retreat means, not the counts.
 
 mod common;
 
@@ -77,14 +73,6 @@ fn retreats_then_views(dir: &Path, extra: &[&str]) -> Value {
         assert!(o["coverage"].as_f64().unwrap() > o["coverage_mid_range"].as_f64().unwrap());
     }
     r
-}
-
-/// The scene as it is, at seed 4: the mallet retreats once, then is viewed until its gain
-/// falls below the threshold.
-#[test]
-fn paper_env1_seed_4_retreats_and_then_views_the_object() {
-    let dir = tempfile::tempdir().unwrap();
-    retreats_then_views(&dir.path().join("run"), &["--seed", "4"]);
 }
 
 /// A planner with a small budget (100 RRT iterations instead of 4000) fails from where
