@@ -403,7 +403,7 @@ fn summary_text(s: &Summary, out: &Path, plots: &[String]) -> String {
     let a = &s.aggregate;
     let mut t = format!(
         "{} of {} episode(s): coverage min {:.1}% mean {:.1}%, {} view(s), {} collision(s), \
-         p-ICP-GPA error mean {:.1} mm (max {:.1}), ICP {:.1} mm, {} failed registration(s); \
+         registration error (the model's) mean {:.1} mm (max {:.1}), ICP {:.1} mm, {} failed registration(s); \
          {:.0} episodes/hour\n",
         s.episodes_finished,
         s.episodes_expected,
