@@ -239,7 +239,7 @@ pub struct Totals {
     pub collisions: usize,
     /// Mean coverage over the matched objects.
     pub mean_coverage: f64,
-    /// Mean p-ICP-GPA error over objects (m).
+    /// Mean alignment error of the model's registration over objects (m).
     pub mean_error_gpa: Option<f64>,
     /// Mean sequential ICP error (m).
     pub mean_error_icp: Option<f64>,
