@@ -181,6 +181,23 @@ impl PointCloud {
         Some(Point3::from(sum / self.len() as f64))
     }
 
+    /// Mean of the sensor origins (where the sensor stood, on average), or `None` without
+    /// an `origins` column or points.
+    ///
+    /// ```
+    /// use nbv_core::cloud::PointCloud;
+    /// use nalgebra::Point3;
+    /// let mut c = PointCloud::from_points(vec![Point3::origin(); 2]);
+    /// assert_eq!(c.origin_centroid(), None);
+    /// c.origins = Some(vec![Point3::new(0.0, 0.0, 1.0), Point3::new(0.0, 0.0, 3.0)]);
+    /// assert_eq!(c.origin_centroid(), Some(Point3::new(0.0, 0.0, 2.0)));
+    /// ```
+    pub fn origin_centroid(&self) -> Option<Point3<f64>> {
+        let o = self.origins.as_ref().filter(|o| !o.is_empty())?;
+        let sum = o.iter().fold(Vector3::zeros(), |s, p| s + p.coords);
+        Some(Point3::from(sum / o.len() as f64))
+    }
+
     /// Axis-aligned bounds `(min, max)`, or `None` for an empty cloud.
     pub fn bounds(&self) -> Option<(Point3<f64>, Point3<f64>)> {
         let first = *self.points.first()?;

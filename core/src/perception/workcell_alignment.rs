@@ -107,12 +107,10 @@ pub fn align_to_workcell(
         .collect();
     let stride = cloud.len().div_ceil(MAX_POINTS).max(1);
     let points: Vec<Point3<f64>> = cloud.points.iter().step_by(stride).copied().collect();
-    let centre = match &cloud.origins {
-        Some(o) if !o.is_empty() => {
-            Point3::from(o.iter().fold(Vector3::zeros(), |s, p| s + p.coords) / o.len() as f64)
-        }
-        _ => cloud.centroid().unwrap_or_else(Point3::origin),
-    };
+    let centre = cloud
+        .origin_centroid()
+        .or_else(|| cloud.centroid())
+        .unwrap_or_else(Point3::origin);
     let info_prior = prior.information();
     let var = sigma * sigma;
     let mut correction = Pose::identity();

@@ -7,8 +7,6 @@
 //! laser's, whose rotation error `σ_r` displaces the object, seen from the camera at
 //! distance `d` from the laser, by about `σ_r·d` (`σ_r·d·√(2/3)` per axis).
 
-use nalgebra::Point3;
-
 use crate::cloud::PointCloud;
 use crate::registration::{PosePrior, RangeNoise, ViewModel};
 
@@ -59,16 +57,8 @@ impl PoseUncertainty {
     /// then camera views of `frames` averaged frames each. Sensor positions come from the
     /// views' `origins` columns (the centroid stands in where there is none).
     pub fn view_models(&self, views: &[PointCloud], frames: usize) -> Vec<ViewModel> {
-        let origin = |v: &PointCloud| -> Option<Point3<f64>> {
-            let o = v.origins.as_ref()?;
-            let sum = o
-                .iter()
-                .fold(nalgebra::Vector3::zeros(), |s, p| s + p.coords);
-            (!o.is_empty()).then(|| Point3::from(sum / o.len() as f64))
-        };
-        let laser = views
-            .first()
-            .and_then(|v| origin(v).or_else(|| v.centroid()));
+        let origin = |v: &PointCloud| v.origin_centroid().or_else(|| v.centroid());
+        let laser = views.first().and_then(origin);
         views
             .iter()
             .enumerate()
@@ -79,7 +69,7 @@ impl PoseUncertainty {
                         prior: None,
                     };
                 }
-                let at = origin(v).or_else(|| v.centroid());
+                let at = origin(v);
                 let distance = match (laser, at) {
                     (Some(a), Some(b)) => (a - b).norm(),
                     _ => 0.0,

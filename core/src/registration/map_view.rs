@@ -84,12 +84,7 @@ impl MapView {
                 vec![noise.sigma(1.0); points.len()],
             ),
         };
-        let centre = match &cloud.origins {
-            Some(o) if !o.is_empty() => {
-                Point3::from(o.iter().fold(Vector3::zeros(), |s, p| s + p.coords) / o.len() as f64)
-            }
-            _ => tree.centroid(),
-        };
+        let centre = cloud.origin_centroid().unwrap_or_else(|| tree.centroid());
         let k = NonZeroUsize::new(k.max(3)).unwrap_or(NonZeroUsize::MIN);
         let two = NonZeroUsize::new(2).unwrap_or(NonZeroUsize::MIN);
         let per_point: Vec<(Surfel, f64)> = (0..points.len().div_ceil(CHUNK))
