@@ -7,7 +7,7 @@ use crate::scene::Scene;
 use nbv_core::kinematics::Joints;
 use nbv_core::pipeline::{ExploreConfig, ExploreMode, PoseUncertainty, TableFilter};
 use nbv_core::planning::{Obstacle, ObstacleShape, PlannerConfig};
-use nbv_core::registration::{PosePrior, RangeNoise, RegistrationParams};
+use nbv_core::registration::{MapParams, PosePrior, RangeNoise, RegistrationParams};
 
 /// Distance (m) from each joint's axis to the sensors, roughly, over the arm's working
 /// poses: a joint offset of δ rad moves the sensors by about δ times this.
@@ -201,6 +201,12 @@ impl Scene {
                 max_correspondence_distance: self.registration.d_max,
                 max_iterations: self.registration.max_iterations as usize,
                 tolerance: self.registration.tolerance,
+                // The camera views go into the laser cluster only: at the Dinast's
+                // centimetre noise, view-to-view terms pull them off (`MapParams`).
+                map: MapParams {
+                    view_to_view: false,
+                    ..MapParams::default()
+                },
                 ..RegistrationParams::default()
             },
             uncertainty: self.pose_uncertainty(),

@@ -203,7 +203,7 @@ pub struct ExploreReport {
 pub struct WorkcellEntry {
     /// Whether it was applied.
     pub accepted: bool,
-    /// Its rotation (degrees) and the displacement of the laser (m).
+    /// Its rotation (degrees).
     pub rotation_deg: f64,
     /// Displacement of the laser's mean position (m).
     pub translation: f64,

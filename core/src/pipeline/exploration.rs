@@ -567,10 +567,7 @@ fn register_object(
         reference: 0,
         ..config.registration.clone()
     };
-    // The camera views are registered into the laser cluster only (see `MapParams`).
-    let mut map_params = params(Method::Map);
-    map_params.map.view_to_view = false;
-    let map = register_with_models(&views, &initial, &models, &map_params)?;
+    let map = register_with_models(&views, &initial, &models, &params(Method::Map))?;
     let gpa = register(&views, &initial, &params(Method::Gpa))?;
     let icp = register(
         &views,
