@@ -104,6 +104,12 @@ pub struct ObjectEntry {
     pub cluster: usize,
     /// Points in the phase-1 cluster.
     pub cluster_points: usize,
+    /// What the cluster is in truth: `object`, `unknown obstacle <name>` (an obstacle the
+    /// robot was not told of: it may be explored, it matches none of the scene's
+    /// objects), `known obstacle <name>`, `table` (both phantoms: pose error made them),
+    /// `mixed` (no single thing has most of its points) or `unknown` (no truth labels: the
+    /// real rig).
+    pub truth: String,
     /// Short-range views taken.
     pub views: Vec<ViewEntry>,
     /// Viewpoints tried (taken + failed).
@@ -168,8 +174,27 @@ pub struct PhaseOneEntry {
     pub reduced_occupied: usize,
     /// Unknown voxels in the reduced map.
     pub reduced_unknown: usize,
+    /// Point counts of segmentation, with its merged parts and dropped slivers.
+    pub segmentation: nbv_core::perception::SegmentationCounts,
+    /// Clusters that segmentation dropped as slivers of a known obstacle's face.
+    pub slivers: Vec<SliverEntry>,
     /// Times.
     pub times: Times,
+}
+
+/// A cluster dropped as a sliver of a known obstacle's face.
+#[derive(Debug, Clone, Serialize)]
+pub struct SliverEntry {
+    /// The known obstacle.
+    pub obstacle: String,
+    /// Points of the cluster.
+    pub points: usize,
+    /// Its centroid (m).
+    pub centroid: [f64; 3],
+    /// Its thickness (4σ, m).
+    pub thickness: f64,
+    /// How far in front of the obstacle's face (its exclusion box) it lies (m).
+    pub distance: f64,
 }
 
 /// The whole report.
@@ -187,6 +212,13 @@ pub struct ExploreReport {
     pub objects: Vec<ObjectEntry>,
     /// Scene objects that no cluster was matched to.
     pub missed_objects: Vec<String>,
+    /// Scene objects that more than one cluster was matched to (explored in parts).
+    pub split_objects: Vec<String>,
+    /// Clusters explored that are no scene object and no unknown obstacle (phantoms of the
+    /// known workcell or mixtures), dropped ones not counted.
+    pub phantom_clusters: usize,
+    /// Clusters dropped after their first short-range view (not objects).
+    pub dropped_clusters: usize,
     /// The laser sweep's correction from the known workcell, when it ran.
     pub workcell_alignment: Option<WorkcellEntry>,
     /// The depth camera's hand-eye correction estimated from the registrations, beside
@@ -285,6 +317,28 @@ impl ExploreReport {
                 o.stop
             );
         }
+        for o in self.objects.iter().filter(|o| o.truth != "object") {
+            s += &format!(
+                "  {} matches none of the scene's objects: {}\n",
+                o.name, o.truth
+            );
+        }
+        for v in &self.phase_one.slivers {
+            s += &format!(
+                "  dropped in phase 1: a sliver of {}'s face ({} points, {:.1} mm thick, {:.1} mm in front of its box)\n",
+                v.obstacle,
+                v.points,
+                v.thickness * 1e3,
+                v.distance * 1e3
+            );
+        }
+        if !self.missed_objects.is_empty() || !self.split_objects.is_empty() {
+            s += &format!(
+                "  missed: {}; split into several clusters: {}\n",
+                list_or_none(&self.missed_objects),
+                list_or_none(&self.split_objects)
+            );
+        }
         if let Some(w) = &self.workcell_alignment {
             s += &format!(
                 "  laser sweep aligned to the workcell: {} ({:.2}° and {:.1} mm, {} points on known surfaces, rms {:.1} mm)\n",
@@ -339,6 +393,14 @@ impl ExploreReport {
     }
 }
 
+fn list_or_none(names: &[String]) -> String {
+    if names.is_empty() {
+        "none".into()
+    } else {
+        names.join(", ")
+    }
+}
+
 /// Measures `exploration` against the scene's truth.
 pub fn evaluate(
     scene: &Scene,
@@ -347,13 +409,22 @@ pub fn evaluate(
 ) -> Result<ExploreReport> {
     let meshes = scene.object_meshes()?;
     let floor = scene.table.top() + 0.005;
-    let mut matched = vec![false; scene.objects.len()];
+    let mut matched_by = vec![0usize; scene.objects.len()];
+    let (mut phantoms, mut dropped_clusters) = (0, 0);
     let mut objects = Vec::new();
     for object in &exploration.objects {
         let truth = true_object(object, scene, &meshes);
-        if let Some(i) = truth {
-            matched[i] = true;
+        let dropped = matches!(object.stop, ObjectStop::NotAnObject { .. });
+        if let Some(i) = truth
+            && !dropped
+        {
+            matched_by[i] += 1;
         }
+        let what = cluster_truth(&object.cluster, scene, truth);
+        if !dropped && truth.is_none() && !what.starts_with("unknown obstacle") {
+            phantoms += 1;
+        }
+        dropped_clusters += usize::from(dropped);
         let name = truth.map_or(format!("cluster-{}", object.index), |i| {
             scene.objects[i].name.clone()
         });
@@ -407,6 +478,7 @@ pub fn evaluate(
             name,
             cluster: object.index,
             cluster_points: object.cluster.len(),
+            truth: what,
             views: object.views.iter().map(view_entry).collect(),
             viewpoints_tried: object.views.len() + object.failures.len(),
             viewpoints_failed: object.failures.iter().map(|f| f.reason.clone()).collect(),
@@ -484,16 +556,42 @@ pub fn evaluate(
             unknown: counts.unknown,
             reduced_occupied: p.reduced.occupied,
             reduced_unknown: p.reduced.unknown_crust,
+            segmentation: p.segmentation,
+            slivers: p
+                .slivers
+                .iter()
+                .map(|s| SliverEntry {
+                    obstacle: scene
+                        .obstacles
+                        .iter()
+                        .filter(|o| o.known)
+                        .nth(s.obstacle)
+                        .map_or_else(|| format!("obstacle {}", s.obstacle), |o| o.name.clone()),
+                    points: s.points,
+                    centroid: s.centroid.coords.into(),
+                    thickness: s.thickness,
+                    distance: s.distance,
+                })
+                .collect(),
             times: Times::from(&p.times),
         },
         objects,
         missed_objects: scene
             .objects
             .iter()
-            .zip(&matched)
-            .filter(|(_, m)| !**m)
+            .zip(&matched_by)
+            .filter(|(_, m)| **m == 0)
             .map(|(o, _)| o.name.clone())
             .collect(),
+        split_objects: scene
+            .objects
+            .iter()
+            .zip(&matched_by)
+            .filter(|(_, m)| **m > 1)
+            .map(|(o, _)| o.name.clone())
+            .collect(),
+        phantom_clusters: phantoms,
+        dropped_clusters,
         workcell_alignment: p.workcell.as_ref().map(|a| {
             let laser = p.cloud.origins.as_ref().and_then(|o| o.first().copied());
             WorkcellEntry {
@@ -539,6 +637,9 @@ fn stop_text(stop: &ObjectStop) -> String {
         ObjectStop::Rule(nbv_core::nbv::StopReason::NoViewpoint) => "no viewpoint left".into(),
         ObjectStop::MaxViews => "view cap reached".into(),
         ObjectStop::NotExplored => "not explored (mid-only)".into(),
+        ObjectStop::NotAnObject { points } => format!(
+            "dropped, not an object: its first short-range view has {points} point(s) where phase 1 put it"
+        ),
     }
 }
 
@@ -590,6 +691,45 @@ pub fn true_object_of(cluster: &nbv_core::cloud::PointCloud, scene: &Scene) -> O
         .enumerate()
         .max_by_key(|(i, n)| (**n, usize::MAX - i))?;
     (2 * n > labels.len()).then_some(best)
+}
+
+/// What a cluster is in truth (see [`ObjectEntry::truth`]): the scene object it was matched
+/// to, else the thing most of its points hit by the truth labels.
+fn cluster_truth(
+    cluster: &nbv_core::cloud::PointCloud,
+    scene: &Scene,
+    object: Option<usize>,
+) -> String {
+    if object.is_some() {
+        return "object".into();
+    }
+    let Some(labels) = cluster.labels.as_ref().filter(|l| !l.is_empty()) else {
+        return "unknown".into();
+    };
+    let mut counts = std::collections::BTreeMap::<u32, usize>::new();
+    for &l in labels {
+        *counts.entry(l).or_default() += 1;
+    }
+    let (code, n) = counts
+        .iter()
+        .max_by_key(|(c, n)| (**n, std::cmp::Reverse(**c)))
+        .map(|(c, n)| (*c, *n))
+        .unwrap_or_default();
+    if 2 * n <= labels.len() {
+        return "mixed".into();
+    }
+    match TruthLabel::from_code(code) {
+        Some(TruthLabel::Obstacle(k)) => scene.obstacles.get(k as usize).map_or_else(
+            || "obstacle".into(),
+            |o| {
+                let kind = if o.known { "known" } else { "unknown" };
+                format!("{kind} obstacle {}", o.name)
+            },
+        ),
+        Some(TruthLabel::Table) => "table".into(),
+        Some(TruthLabel::Robot) => "robot".into(),
+        Some(TruthLabel::Object(_)) | None => "mixed".into(),
+    }
 }
 
 /// The scene sections that drive the run, as JSON.

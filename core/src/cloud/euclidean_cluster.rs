@@ -67,6 +67,33 @@ impl Cluster {
     pub fn cloud(&self, cloud: &PointCloud) -> PointCloud {
         cloud.select(&self.indices)
     }
+
+    /// The cluster of `points[i]` for the sorted, non-empty `indices`: their centroid and
+    /// bounds.
+    ///
+    /// ```
+    /// use nbv_core::cloud::Cluster;
+    /// use nalgebra::Point3;
+    /// let pts = [Point3::new(0.0, 0.0, 0.0), Point3::new(9.0, 9.0, 9.0), Point3::new(2.0, 4.0, 0.0)];
+    /// let c = Cluster::from_indices(&pts, vec![0, 2]);
+    /// assert_eq!((c.centroid, c.min, c.max), (Point3::new(1.0, 2.0, 0.0), pts[0], pts[2]));
+    /// ```
+    pub fn from_indices(points: &[Point3<f64>], indices: Vec<usize>) -> Self {
+        let first = indices.first().map_or_else(Point3::origin, |&i| points[i]);
+        let (sum, min, max) = indices.iter().fold(
+            (Vector3::zeros(), first, first),
+            |(s, lo, hi): (Vector3<f64>, Point3<f64>, Point3<f64>), &i| {
+                let p = points[i];
+                (s + p.coords, lo.inf(&p), hi.sup(&p))
+            },
+        );
+        Cluster {
+            centroid: Point3::from(sum / indices.len().max(1) as f64),
+            indices,
+            min,
+            max,
+        }
+    }
 }
 
 impl EuclideanClustering {
@@ -140,27 +167,9 @@ impl EuclideanClustering {
                 continue;
             }
             members.sort_unstable();
-            clusters.push(describe(&cloud.points, members));
+            clusters.push(Cluster::from_indices(&cloud.points, members));
         }
         Ok(clusters)
-    }
-}
-
-/// Centroid and bounds of a non-empty, sorted member list.
-fn describe(points: &[Point3<f64>], indices: Vec<usize>) -> Cluster {
-    let first = indices.first().map_or_else(Point3::origin, |&i| points[i]);
-    let (sum, min, max) = indices.iter().fold(
-        (Vector3::zeros(), first, first),
-        |(s, lo, hi): (Vector3<f64>, Point3<f64>, Point3<f64>), &i| {
-            let p = points[i];
-            (s + p.coords, lo.inf(&p), hi.sup(&p))
-        },
-    );
-    Cluster {
-        centroid: Point3::from(sum / indices.len().max(1) as f64),
-        indices,
-        min,
-        max,
     }
 }
 

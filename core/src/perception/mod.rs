@@ -4,20 +4,26 @@
 //! - [`SegmentationParams`]: voxel filter, outlier removal, table plane and clustering
 //!   parameters (the scene file's `[segmentation]` section);
 //! - [`OrientedBox`]: a crop region or a known obstacle to leave out of the clusters;
+//! - [`obstacle_sliver`]: a cluster that is only a known obstacle's face, moved by pose error;
 //! - [`segment_objects`]: cloud → [`ObjectSegmentation`] (clusters with centroid and box);
+//! - [`merge_stacked_parts`]: the parts of one object the sweep saw apart, one cluster again;
 //! - [`build_map`]: cloud with origins → [`PhaseOneMap`] (grid, scan counters, reduced map);
 //! - [`phase_one`]: both, with a [`PhaseOneConfig`] → [`PhaseOne`].
 
+mod obstacle_sliver;
 mod oriented_box;
 mod perception_error;
 mod phase_one;
 mod segmentation;
 mod segmentation_params;
+mod stacked_parts;
 mod workcell_alignment;
 
+pub use obstacle_sliver::{ObstacleSliver, obstacle_sliver};
 pub use oriented_box::OrientedBox;
 pub use perception_error::PerceptionError;
 pub use phase_one::{PhaseOne, PhaseOneConfig, PhaseOneMap, build_map, phase_one};
 pub use segmentation::{ObjectSegmentation, SegmentationCounts, segment_objects};
 pub use segmentation_params::SegmentationParams;
+pub use stacked_parts::merge_stacked_parts;
 pub use workcell_alignment::{WorkcellAlignment, align_to_workcell};

@@ -3,6 +3,8 @@
 
 use crate::cloud::PointCloud;
 use crate::occupancy::{GridGeometry, OccupancyGrid, OccupancyParams, ReducedMap, ScanUpdate};
+use crate::registration::PosePrior;
+use nalgebra::Point3;
 
 use super::{
     ObjectSegmentation, OrientedBox, PerceptionError, SegmentationParams, segment_objects,
@@ -51,6 +53,51 @@ impl PhaseOneConfig {
         }
     }
 }
+
+impl PhaseOneConfig {
+    /// The same configuration with every excluded box grown by three standard deviations
+    /// of how far the pose error `prior` of a sensor at `sensor` can move the box's
+    /// points (the lever: its centre's range plus its half diagonal, a bound on its
+    /// farthest corner's): a known obstacle's surface
+    /// seen through a wrong pose still falls inside its box. For the laser sweep after
+    /// [`align_to_workcell`](super::align_to_workcell), `prior` is what is left of the
+    /// error (the alignment's posterior σ); otherwise the rig's declared prior.
+    ///
+    /// ```
+    /// use nbv_core::occupancy::GridGeometry;
+    /// use nbv_core::perception::{OrientedBox, PhaseOneConfig};
+    /// use nbv_core::registration::PosePrior;
+    /// use nalgebra::Point3;
+    /// let g = GridGeometry::new(Point3::new(0.0, -1.0, 0.0), Point3::new(2.0, 1.0, 1.0), 0.02).unwrap();
+    /// let mut c = PhaseOneConfig::new(g);
+    /// c.exclude.push(OrientedBox::from_bounds(Point3::new(1.5, -0.5, 0.0), Point3::new(1.6, 0.5, 0.5)));
+    /// let prior = PosePrior { rotation_sigma: 0.002, translation_sigma: 0.003 };
+    /// let grown = c.with_pose_error(&prior, &Point3::new(0.0, 0.0, 1.0));
+    /// // Lever: |(1.55, 0, -0.75)| + |(0.05, 0.5, 0.25)| = 1.722 + 0.561 m.
+    /// let lever = 1.55f64.hypot(0.75) + (0.05f64.powi(2) + 0.25 + 0.0625).sqrt();
+    /// let margin = grown.exclude[0].half_extents.x - c.exclude[0].half_extents.x;
+    /// assert!((margin - 3.0 * (0.003 + lever * 0.002)).abs() < 1e-9);
+    /// assert!(margin > 0.022 && margin < 0.023);
+    /// ```
+    pub fn with_pose_error(&self, prior: &PosePrior, sensor: &Point3<f64>) -> Self {
+        let exclude = self
+            .exclude
+            .iter()
+            .map(|b| {
+                let reach =
+                    (b.pose.translation.vector - sensor.coords).norm() + b.half_extents.norm();
+                b.inflated(POSE_ERROR_SIGMAS * prior.point_sigma(reach))
+            })
+            .collect();
+        Self {
+            exclude,
+            ..self.clone()
+        }
+    }
+}
+
+/// Standard deviations of pose error an exclusion box is grown by.
+const POSE_ERROR_SIGMAS: f64 = 3.0;
 
 /// The occupancy grid after the phase-1 cloud, and its reduced map.
 #[derive(Debug, Clone, PartialEq)]

@@ -7,10 +7,24 @@ use crate::cloud::{
     StatisticalOutlierFilter, VoxelFilter,
 };
 
-use super::{OrientedBox, PerceptionError, SegmentationParams};
+use nalgebra::Vector3;
+
+use super::{
+    ObstacleSliver, OrientedBox, PerceptionError, SegmentationParams, merge_stacked_parts,
+    obstacle_sliver,
+};
+
+/// Share of the smaller footprint that must lie under the other for two components to be
+/// parts of one object: half, so that touching neighbours never qualify.
+const STACKED_SHARE: f64 = 0.5;
+/// Thickest flat layer (4σ, m) taken for a known obstacle's face: the LMS400's range noise
+/// (σ 2–4 mm at the workcell's ranges) spread over a few sweep lines.
+const SLIVER_THICKNESS: f64 = 0.012;
+/// Furthest in front of a known face (m, beyond its exclusion box) a sliver lies.
+const SLIVER_REACH: f64 = 0.05;
 
 /// Point counts after each step of [`segment_objects`].
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
 pub struct SegmentationCounts {
     /// Points in the input cloud.
     pub input: usize,
@@ -26,10 +40,16 @@ pub struct SegmentationCounts {
     pub above_table: usize,
     /// Points in the kept clusters.
     pub clustered: usize,
+    /// Connected components joined to another one standing over the same patch of the
+    /// table ([`merge_stacked_parts`](super::merge_stacked_parts)).
+    pub merged_parts: usize,
     /// Connected components dropped for having fewer than `min_cluster_points` points.
     pub small_components: usize,
     /// Connected components dropped for having more than `max_cluster_points` points.
     pub large_components: usize,
+    /// Clusters dropped as a flat sliver of a known obstacle's face
+    /// ([`ObjectSegmentation::slivers`]).
+    pub slivers: usize,
 }
 
 /// What segmentation found. Every index refers to [`ObjectSegmentation::filtered`].
@@ -41,6 +61,9 @@ pub struct ObjectSegmentation {
     pub table: Option<PlaneFit>,
     /// The object clusters P_j^0, in the order of their smallest point index.
     pub clusters: Vec<Cluster>,
+    /// Clusters that are only a known obstacle's face moved by the pose error
+    /// ([`obstacle_sliver`](super::obstacle_sliver)): not objects.
+    pub slivers: Vec<(Cluster, ObstacleSliver)>,
     /// Point counts per step.
     pub counts: SegmentationCounts,
 }
@@ -83,8 +106,15 @@ fn step(name: &'static str) -> impl Fn(ProcessingError) -> PerceptionError {
 /// 4. the dominant near-horizontal plane, the table ([`PlaneRansac`] with the tilt limit);
 ///    without one every point goes on;
 /// 5. the points more than `plane_distance` above the plane are clustered by flood fill
-///    ([`EuclideanClustering`]); components outside
-///    `[min_cluster_points, max_cluster_points]` are dropped and counted.
+///    ([`EuclideanClustering`]);
+/// 6. components standing over the same patch of the table (most of the smaller one's
+///    footprint, on a grid of the clustering tolerance) are parts of one object the sweep
+///    saw apart, and are merged ([`merge_stacked_parts`](super::merge_stacked_parts));
+///    then clusters outside `[min_cluster_points, max_cluster_points]` are dropped and
+///    counted;
+/// 7. a cluster that is a flat layer (thinner than 12 mm) parallel to the face of an
+///    `exclude` box and at most 5 cm in front of it is that known obstacle's face, moved
+///    out of its box by the pose error: it goes to [`ObjectSegmentation::slivers`].
 ///
 /// Deterministic: the result depends on the inputs and the seed only.
 ///
@@ -179,14 +209,25 @@ pub fn segment_objects(
         .collect();
     counts.above_table = candidates.len();
     let mut clusters = Vec::new();
+    let mut slivers = Vec::new();
     if !candidates.is_empty() {
+        let above = filtered.select(&candidates);
         let components = EuclideanClustering {
             tolerance: params.cluster_tolerance,
             min_size: 1,
             max_size: usize::MAX,
         }
-        .clusters(&filtered.select(&candidates))
+        .clusters(&above)
         .map_err(step("clustering"))?;
+        let up = table.as_ref().map_or_else(Vector3::z_axis, |t| t.normal);
+        let (components, merged) = merge_stacked_parts(
+            &above.points,
+            components,
+            &up,
+            params.cluster_tolerance,
+            STACKED_SHARE,
+        );
+        counts.merged_parts = merged;
         for mut c in components {
             if c.len() < params.min_cluster_points {
                 counts.small_components += 1;
@@ -197,6 +238,17 @@ pub fn segment_objects(
                 for i in &mut c.indices {
                     *i = candidates[*i];
                 }
+                if let Some(s) = obstacle_sliver(
+                    &filtered.points,
+                    &c,
+                    exclude,
+                    SLIVER_THICKNESS,
+                    SLIVER_REACH,
+                ) {
+                    counts.slivers += 1;
+                    slivers.push((c, s));
+                    continue;
+                }
                 counts.clustered += c.len();
                 clusters.push(c);
             }
@@ -206,6 +258,7 @@ pub fn segment_objects(
         filtered,
         table,
         clusters,
+        slivers,
         counts,
     })
 }

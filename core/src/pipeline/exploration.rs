@@ -14,11 +14,12 @@ use crate::nbv::{InformationGain, NextBestView, VisitedViews, view_pose_rolled};
 use crate::occupancy::{OccupancyGrid, ReducedMap};
 use crate::perception::{align_to_workcell, phase_one};
 use crate::planning::{CollisionWorld, MotionPlanner, PlanningError};
-use crate::registration::{Method, RegistrationParams, register, register_with_models};
+use crate::registration::{Method, PosePrior, RegistrationParams, register, register_with_models};
 use crate::rig::{
     Arm, DepthCamera, DepthFrame, JointPath, LineScanner, RigError, acquire_sweep, average_frames,
     depth_frame_to_cloud, lines_to_cloud, sensor_pose,
 };
+use nalgebra::Point3;
 use std::time::Instant;
 
 /// Runs the method (or the baseline of `config.mode`) on a rig: the phase-1 sweep and
@@ -102,7 +103,8 @@ where
             object: j,
             reason: stop,
         });
-        if object.views.iter().any(|v| !v.cloud.is_empty()) {
+        let dropped = matches!(object.stop, ObjectStop::NotAnObject { .. });
+        if !dropped && object.views.iter().any(|v| !v.cloud.is_empty()) {
             let t = Instant::now();
             match register_object(&object, config, phase_report.workcell.as_ref()) {
                 Ok(r) => object.registration = Some(r),
@@ -181,8 +183,23 @@ where
         lines,
         points: cloud.len(),
     });
+    // The known obstacles' boxes, grown by what is left of the pose error: the sweep's
+    // after the workcell alignment, else the rig's declared prior (the camera's, for the
+    // short-only survey).
+    let residual = match &workcell {
+        Some(a) if a.accepted => PosePrior {
+            rotation_sigma: a.sigma.0,
+            translation_sigma: a.sigma.1,
+        },
+        _ if config.mode == ExploreMode::ShortOnly => config.uncertainty.camera_pose,
+        _ => config.uncertainty.laser_pose,
+    };
+    let sensor = cloud.origin_centroid().unwrap_or_else(Point3::origin);
     let t = Instant::now();
-    let one = phase_one(&cloud, &config.phase_one)?;
+    let one = phase_one(
+        &cloud,
+        &config.phase_one.with_pose_error(&residual, &sensor),
+    )?;
     // phase_one segments and maps; split the time by re-measuring nothing: both count as
     // segmentation + mapping, attributed to mapping for the grid part below.
     times.segmentation += t.elapsed().as_secs_f64();
@@ -195,6 +212,7 @@ where
         collisions,
         cloud,
         segmentation: one.segmentation.counts,
+        slivers: one.segmentation.slivers.iter().map(|(_, s)| *s).collect(),
         scan: one.map.scan,
         reduced: *one.map.reduced.stats(),
         grid: one.map.grid,
@@ -333,6 +351,17 @@ where
             if let (Some(filter), Some(plane)) = (&config.table_filter, table) {
                 cloud = filter.remove(plane, &cloud);
             }
+            // The known obstacles are no object: their surfaces, wherever this view's pose
+            // error may have put them, leave the view.
+            let known = config
+                .phase_one
+                .with_pose_error(
+                    &config.uncertainty.camera_pose,
+                    &Point3::from(pose.translation.vector),
+                )
+                .exclude;
+            cloud = cloud.retain_indices(|i| !known.iter().any(|b| b.contains(&cloud.points[i])));
+            let first_points = object.views.is_empty().then_some(cloud.len());
             object.views.push(AcquiredView {
                 viewpoint: candidate.viewpoint.pose,
                 score: candidate.score,
@@ -357,6 +386,12 @@ where
             latest_gain = Some(gain);
             taken = true;
             retreated = false;
+            if let Some(points) = first_points
+                && points < config.phase_one.segmentation.min_cluster_points
+            {
+                object.stop = ObjectStop::NotAnObject { points };
+                return Ok(collisions);
+            }
             break;
         }
         if !taken {

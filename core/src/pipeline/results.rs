@@ -68,6 +68,8 @@ pub struct PhaseOneReport {
     pub cloud: PointCloud,
     /// Segmentation counts.
     pub segmentation: SegmentationCounts,
+    /// Clusters dropped as slivers of a known obstacle's face (not objects).
+    pub slivers: Vec<crate::perception::ObstacleSliver>,
     /// The grid update.
     pub scan: ScanUpdate,
     /// The grid after phase 1.
@@ -127,6 +129,13 @@ pub enum ObjectStop {
     MaxViews,
     /// Not explored (mid-only mode).
     NotExplored,
+    /// Dropped: its first short-range view found (almost) no surface where phase 1 put
+    /// it — fewer points than the smallest object cluster, in its region and outside the
+    /// known obstacles. A cluster made by the sweep's pose error, not an object.
+    NotAnObject {
+        /// Points of the first view in the object's region.
+        points: usize,
+    },
 }
 
 /// The registrations of an object's views (view 0 is the phase-1 cluster, the

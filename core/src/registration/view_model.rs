@@ -103,6 +103,18 @@ impl PosePrior {
         xi.dot(&(self.information() * xi))
     }
 
+    /// σ of the displacement of a point `range` (m) from the sensor under this pose error:
+    /// the translation's σ plus the rotation's lever, added as in the worst direction.
+    ///
+    /// ```
+    /// use nbv_core::registration::PosePrior;
+    /// let p = PosePrior { rotation_sigma: 0.001, translation_sigma: 0.002 };
+    /// assert!((p.point_sigma(1.5) - 0.0035).abs() < 1e-12);
+    /// ```
+    pub fn point_sigma(&self, range: f64) -> f64 {
+        self.translation_sigma + range * self.rotation_sigma
+    }
+
     /// Whether both σ are finite and positive.
     pub fn is_valid(&self) -> bool {
         [self.rotation_sigma, self.translation_sigma]
