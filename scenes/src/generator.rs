@@ -113,7 +113,10 @@ pub fn generate_with(
     let mut placed: Vec<[f64; 4]> = Vec::new(); // footprint rectangles [x0, y0, x1, y1]
     let mut objects: Vec<ObjectSpec> = Vec::new();
     let mut counts = std::collections::HashMap::new();
-    let nbv = Nbv::default();
+    // Placement asks for enough reachable viewpoints of the paper's viewing sphere (the
+    // count `min_reachable_viewpoints` is of that sphere); the scene itself gets the
+    // default `[nbv]`, the twin preset.
+    let placement_sphere = Nbv::preset(NbvPreset::Paper);
     for kind in kinds {
         let (path, mesh) = &meshes[&kind];
         let mut done = false;
@@ -135,7 +138,7 @@ pub fn generate_with(
             if !on_table || !apart {
                 continue;
             }
-            let views = viewing_sphere(&solid_centroid(&world), &nbv);
+            let views = viewing_sphere(&solid_centroid(&world), &placement_sphere);
             if count_reachable(&views, reach) < config.min_reachable_viewpoints {
                 continue;
             }
@@ -240,7 +243,7 @@ pub fn generate_with(
         sweep: Sweep::default(),
         mapping: Mapping::default(),
         segmentation: Segmentation::default(),
-        nbv,
+        nbv: Nbv::default(),
         planner: Planner::default(),
         registration: Registration::default(),
         errors: ErrorModel::default(),

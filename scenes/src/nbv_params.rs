@@ -8,7 +8,7 @@ impl Nbv {
     ///
     /// ```
     /// let p = nbv_scenes::schema::Nbv::default().params();
-    /// assert_eq!((p.sphere.radius, p.weights.unknown, p.ray_stride), (0.3, 4.0, 8));
+    /// assert_eq!((p.sphere.radius, p.weights.unknown, p.ray_stride), (0.45, 4.0, 8));
     /// ```
     pub fn params(&self) -> NbvParams {
         NbvParams {
@@ -33,7 +33,7 @@ impl Nbv {
     /// ```
     /// use nbv_core::nbv::GainMeasure;
     /// let rule = nbv_scenes::schema::Nbv::default().stop_rule();
-    /// assert_eq!((rule.gain_threshold, rule.measure), (5.0, GainMeasure::BernoulliKl));
+    /// assert_eq!((rule.gain_threshold, rule.measure), (2.5, GainMeasure::BernoulliKl));
     /// ```
     pub fn stop_rule(&self) -> StopRule {
         StopRule {

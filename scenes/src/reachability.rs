@@ -7,9 +7,9 @@
 //!
 //! ```
 //! use nbv_scenes::reachability::{count_reachable, viewing_sphere};
-//! use nbv_scenes::schema::Nbv;
+//! use nbv_scenes::schema::{Nbv, NbvPreset};
 //! use nalgebra::Point3;
-//! let views = viewing_sphere(&Point3::new(0.7, 0.0, 0.35), &Nbv::default());
+//! let views = viewing_sphere(&Point3::new(0.7, 0.0, 0.35), &Nbv::preset(NbvPreset::Paper));
 //! assert_eq!(views.len(), 1 + 5 * 12); // θ = 0 once; θ = 15…75°, φ = −180°…150°
 //! // e.g. `|pose| robot.ik_sensor("dinast", pose).is_some()` once kinematics exist:
 //! let within_reach = |pose: &nbv_core::math::Pose| pose.translation.vector.norm() < 1.0;

@@ -57,7 +57,7 @@ fn reachability_filter_is_applied() {
         ..config()
     };
     let s = generate_with(5, 3, &cfg, &front).unwrap();
-    let nbv = nbv_scenes::schema::Nbv::default();
+    let nbv = nbv_scenes::schema::Nbv::preset(nbv_scenes::schema::NbvPreset::Paper);
     for (o, m) in s.objects.iter().zip(s.object_meshes().unwrap()) {
         let c = nbv_scenes::describe::solid_centroid(&m);
         let views = nbv_scenes::reachability::viewing_sphere(&c, &nbv);

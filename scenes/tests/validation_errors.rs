@@ -190,7 +190,11 @@ fn defaults_fill_omitted_sections() {
     // [nbv] is tuned for the twin; the keys it omits keep their defaults.
     let defaults = nbv_scenes::schema::Nbv::default();
     assert_eq!(env2.nbv.radius, 0.45);
-    assert_eq!(defaults.radius, 0.3);
+    assert_eq!(defaults.radius, 0.45);
+    assert_eq!(
+        nbv_scenes::schema::Nbv::preset(nbv_scenes::schema::NbvPreset::Paper).radius,
+        0.3
+    );
     assert_eq!(env2.nbv.rolls, defaults.rolls);
     assert_eq!(env2.sensors.short_range.width, 320);
     // env1 spells every default out: same values.

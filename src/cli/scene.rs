@@ -167,7 +167,8 @@ pub fn run(args: SceneArgs) -> Result<()> {
 }
 
 /// `base` with each dotted key set to its value (`nbv explore --set`, a sweep's
-/// `[params]`), checked by the scene's own validation so a bad key or value names itself;
+/// `[params]`), in order, checked by the scene's own validation so a bad key or value names
+/// itself; `nbv.preset` first resets every `[nbv]` value to the preset's;
 /// `origin` says where the overrides came from, `name` names the result in errors.
 pub fn with_overrides(
     base: &Scene,
@@ -180,6 +181,19 @@ pub fn with_overrides(
     }
     let mut value = toml::Value::try_from(base).context("scene to TOML")?;
     for (key, v) in overrides {
+        if key == "nbv.preset" {
+            // A preset replaces every `[nbv]` value (keys set after it apply on top).
+            let preset: nbv_scenes::schema::NbvPreset = v
+                .clone()
+                .try_into()
+                .with_context(|| format!("{origin}: `{key}` = {v}"))?;
+            let values = toml::Value::try_from(nbv_scenes::schema::Nbv::preset(preset))
+                .context("[nbv] to TOML")?;
+            if let Some(table) = value.as_table_mut() {
+                table.insert("nbv".into(), values);
+            }
+            continue;
+        }
         set_dotted(&mut value, key, v.clone()).with_context(|| format!("{origin}: `{key}`"))?;
     }
     let text = toml::to_string(&value).context("scene to TOML")?;
@@ -291,6 +305,32 @@ mod tests {
         for (a, b) in s.objects.iter().zip(&base.objects) {
             assert_eq!(a.mesh, b.mesh);
         }
+    }
+
+    #[test]
+    fn a_preset_replaces_the_nbv_section_and_later_keys_apply_on_top() {
+        use nbv_scenes::schema::{Nbv, NbvPreset};
+        let base = load("paper-env1").unwrap();
+        let set = [
+            parse_override("nbv.alpha_u=2").unwrap(),
+            parse_override("nbv.preset=paper").unwrap(),
+            parse_override("nbv.alpha_o=3").unwrap(),
+        ];
+        let s = with_overrides(&base, &set, "--set", "env1").unwrap();
+        // alpha_u=2 came before the preset: the preset's value wins.
+        let expected = Nbv {
+            alpha_o: 3.0,
+            ..Nbv::preset(NbvPreset::Paper)
+        };
+        assert_eq!(s.nbv, expected);
+        let e = with_overrides(
+            &base,
+            &[parse_override("nbv.preset=papr").unwrap()],
+            "--set",
+            "e",
+        )
+        .unwrap_err();
+        assert!(format!("{e:#}").contains("unknown variant `papr`"), "{e:#}");
     }
 
     #[test]

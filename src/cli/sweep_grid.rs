@@ -5,6 +5,7 @@
 //! ```toml
 //! scenes = ["paper-env1"]                 # files or built-in names
 //! generated = { seeds = [1, 2], objects = 1 }   # scenes from `nbv scene generate`
+//!                                         # (objects = [1, 3, 6]: each seed with each count)
 //! seeds = [1, 2]                          # episode seeds (override each scene's seed)
 //! modes = ["hybrid"]                      # hybrid | mid-only | short-only
 //! [params]                                # dotted scene keys → the values to try
@@ -12,7 +13,8 @@
 //! "nbv.gain_threshold" = [5.0, 10.0]
 //! ```
 //!
-//! Order: scenes as listed, then the generated ones by seed; for each, the modes; for each,
+//! Order: scenes as listed, then the generated ones by object count, then by seed; for
+//! each, the modes; for each,
 //! the parameter combinations (keys in alphabetical order, the last key varying fastest);
 //! for each, the seeds. Episode `k` of `n` belongs to shard `k mod n`.
 
@@ -45,7 +47,24 @@ struct GridFile {
 #[serde(deny_unknown_fields)]
 struct Generated {
     seeds: Vec<u64>,
-    objects: usize,
+    objects: ObjectCounts,
+}
+
+/// `generated.objects`: one count, or a list (every seed with every count).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+enum ObjectCounts {
+    One(usize),
+    Many(Vec<usize>),
+}
+
+impl ObjectCounts {
+    fn list(&self) -> Vec<usize> {
+        match self {
+            Self::One(n) => vec![*n],
+            Self::Many(v) => v.clone(),
+        }
+    }
 }
 
 /// Where an episode's scene comes from.
@@ -121,16 +140,21 @@ impl SweepGrid {
         let mut scenes: Vec<SceneSource> =
             g.scenes.iter().cloned().map(SceneSource::Named).collect();
         if let Some(generated) = &g.generated {
-            if generated.objects == 0 {
-                bail!("{f}: `generated.objects` must be at least 1");
+            let counts = generated.objects.list();
+            if counts.is_empty() || counts.contains(&0) {
+                bail!("{f}: `generated.objects` must be at least 1 (or a list of such counts)");
             }
             if generated.seeds.is_empty() {
                 bail!("{f}: `generated.seeds` is empty");
             }
-            scenes.extend(generated.seeds.iter().map(|&seed| SceneSource::Generated {
-                seed,
-                objects: generated.objects,
-            }));
+            for &objects in &counts {
+                scenes.extend(
+                    generated
+                        .seeds
+                        .iter()
+                        .map(|&seed| SceneSource::Generated { seed, objects }),
+                );
+            }
         }
         if scenes.is_empty() {
             bail!("{f}: no scene (give `scenes = [...]` or `generated = {{ seeds, objects }}`)");
@@ -306,6 +330,14 @@ mod tests {
     }
 
     #[test]
+    fn generated_scenes_by_count_then_seed() {
+        let g = grid("generated = { seeds = [5, 6], objects = [1, 3] }").unwrap();
+        let scenes: Vec<_> = g.episodes().into_iter().map(|e| e.scene).collect();
+        let scene = |seed, objects| SceneSource::Generated { seed, objects };
+        assert_eq!(scenes, [scene(5, 1), scene(6, 1), scene(5, 3), scene(6, 3)]);
+    }
+
+    #[test]
     fn bad_grids_name_the_problem() {
         let e = |t: &str| grid(t).unwrap_err().to_string();
         assert!(e("seeds = [1]").contains("no scene"));
@@ -313,6 +345,8 @@ mod tests {
         assert!(e("scenes = [\"a\"]\n[params]\n\"nbv.alpha_u\" = []").contains("no value"));
         assert!(e("scenes = [\"a\"]\nbogus = 1").contains("bogus"));
         assert!(e("generated = { seeds = [1], objects = 0 }").contains("generated.objects"));
+        assert!(e("generated = { seeds = [1], objects = [2, 0] }").contains("generated.objects"));
+        assert!(e("generated = { seeds = [1], objects = [] }").contains("generated.objects"));
     }
 
     proptest! {

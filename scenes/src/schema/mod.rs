@@ -22,7 +22,7 @@ mod workspace;
 pub use error_model::{ErrorModel, PoseNoise};
 pub use layout::Layout;
 pub use mapping::Mapping;
-pub use nbv::{GainMeasureName, Nbv};
+pub use nbv::{GainMeasureName, Nbv, NbvPreset};
 pub use objects::{ObjectSpec, ObstacleSpec};
 pub use planner::Planner;
 pub use pose_spec::PoseSpec;
