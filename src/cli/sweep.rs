@@ -72,13 +72,13 @@ GRID FILE (TOML)
 GATES (--require, repeatable)
   METRIC OP VALUE with OP in >=, <=, ==, >, <. Metrics over all finished episodes:
   f_score (smallest per-episode mean F-score of the models: the harmonic mean of
-  precision and completeness at 1 cm, which misaligned views cannot raise), f_score_mean,
+  precision and completeness at 1 cm; misaligned views lower precision), f_score_mean,
   f_score_unregistered_mean (the views as acquired), coverage (smallest per-episode mean
-  coverage), coverage_mean, collisions (total),
-  views (total), failed_registrations (p-ICP-GPA, total), error_gpa (largest per-episode
-  mean alignment error, m), error_gpa_mean, error_icp_mean, missed (objects no cluster
-  matched, total). A failed gate prints the measured value and exits with status 4;
-  the outputs are written all the same.
+  coverage), coverage_mean, collisions (total), views (total), failed_registrations
+  (p-ICP-GPA, total), error_gpa (largest per-episode mean alignment error, m),
+  error_gpa_mean, error_icp_mean, missed (objects no cluster matched, total). A failed
+  gate prints the measured value and exits with status 4; the outputs are written all the
+  same. E.g. --require \"f_score>=0.8\" --require \"collisions==0\".
 
 EXIT STATUS
   0 all episodes finished and every gate holds; 1 error; 2 usage; 4 a gate failed.")]
