@@ -54,8 +54,24 @@ fn hybrid_explores_the_object_and_beats_the_laser_alone() {
     assert!(f(&o["coverage_unregistered"]) > mid + 0.15);
     // The model is the object: the table is taken out of the views, and the averaged
     // frames keep the noise mostly within the centimetre tolerance.
-    let precision = f(&o["precision"]);
+    let q = &o["quality"];
+    assert_eq!(f(&q["tolerance"]), 0.01);
+    assert_eq!(f(&r["config"]["quality_tolerance"]), 0.01);
+    let (precision, completeness, f_score) =
+        (f(&q["precision"]), f(&q["completeness"]), f(&q["f_score"]));
     assert!(precision > 0.8 && precision <= 1.0, "precision {precision}");
+    // Completeness is the coverage, measured on denser samples.
+    assert!(
+        (completeness - full).abs() < 0.01,
+        "{completeness} vs {full}"
+    );
+    assert!(f_score >= precision.min(completeness) && f_score <= precision.max(completeness));
+    assert!(f(&q["chamfer"]) > 0.0 && f(&q["chamfer"]) < 0.01, "{q}");
+    // The laser alone is precise but incomplete; the views add completeness.
+    let mid_q = &o["quality_mid_range"];
+    assert!(f(&mid_q["f_score"]) < f_score, "{mid_q} vs {q}");
+    assert!(f(&o["quality_unregistered"]["f_score"]) > 0.0);
+    assert_eq!(f(&r["totals"]["mean_f_score"]), f_score);
     // Errors against the truth are measured for every method; alignment is below the
     // point error, which adds the Dinast's centimetre noise. A registration fails when it
     // does not converge or leaves more than 1 cm of alignment error; the paper's p-ICP-GPA

@@ -136,10 +136,14 @@ fn gates_fail_with_status_4_and_name_the_gate() {
         "collisions==0",
         "--require",
         "coverage>=0.99",
+        "--require",
+        "f_score>0",
     ]);
     assert_eq!(out.status.code(), Some(4), "{}", text(&out.stderr));
     let s = text(&out.stdout);
     assert!(s.contains("gate collisions==0: pass"), "{s}");
+    assert!(s.contains("gate f_score>0: pass"), "{s}");
+    assert!(s.contains("best by F-score: mode=mid-only"), "{s}");
     assert!(
         s.contains("gate coverage>=0.99: FAILED (measured 0."),
         "{s}"

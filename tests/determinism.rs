@@ -117,11 +117,19 @@ fn paper_env1_hybrid_is_the_same_on_one_and_two_threads() {
     let r = same_on_one_and_two_threads("hybrid", &[]);
     a_full_episode(&r, "hybrid");
     // What the README promises for this episode (paper-env1 at its own seed): every object
-    // at least 85 % covered, no collision (checked above), and the model's registration
-    // accepted with at most half the misalignment the views were acquired with.
+    // at least 85 % covered, an F-score of at least 90 % and above that of the views as
+    // acquired, no collision (checked above), and the model's registration accepted with at
+    // most half the misalignment the views were acquired with.
     for o in r["objects"].as_array().unwrap() {
         let coverage = o["coverage"].as_f64().unwrap();
         assert!(coverage >= 0.85, "{}: coverage {coverage}", o["name"]);
+        let f = o["quality"]["f_score"].as_f64().unwrap();
+        let f_acquired = o["quality_unregistered"]["f_score"].as_f64().unwrap();
+        assert!(
+            f >= 0.9 && f > f_acquired,
+            "{}: F-score {f}, as acquired {f_acquired}",
+            o["name"]
+        );
         let acquired = o["error_unregistered"]["alignment"].as_f64().unwrap();
         let map = o["error_gpa"]["alignment"].as_f64().unwrap();
         assert_eq!(o["error_gpa"]["accepted"], true, "{}", o["name"]);

@@ -8,7 +8,8 @@
 //! DIR/episodes/<id>.row.json   one finished episode (written atomically, last)
 //! DIR/episodes/<id>/           its `nbv explore` outputs (report.json, models, map)
 //! DIR/results.csv              one row per finished episode, by index
-//! DIR/summary.json             aggregates, best settings, registration table, gates
+//! DIR/summary.json             aggregates, best settings (by F-score first), registration
+//!                              table, gates
 //! DIR/plots/*.svg              heatmap of coverage, coverage against views
 //! ```
 //! A run skips the episodes whose row file exists, so an interrupted sweep resumes without
@@ -70,11 +71,14 @@ GRID FILE (TOML)
 
 GATES (--require, repeatable)
   METRIC OP VALUE with OP in >=, <=, ==, >, <. Metrics over all finished episodes:
-  coverage (smallest per-episode mean coverage), coverage_mean, collisions (total),
-  views (total), failed_registrations (p-ICP-GPA, total), error_gpa (largest per-episode
-  mean alignment error, m), error_gpa_mean, error_icp_mean, missed (objects no cluster
-  matched, total). A failed gate prints the measured value and exits with status 4;
-  the outputs are written all the same.
+  f_score (smallest per-episode mean F-score of the models: the harmonic mean of
+  precision and completeness at 1 cm; misaligned views lower precision), f_score_mean,
+  f_score_unregistered_mean (the views as acquired), coverage (smallest per-episode mean
+  coverage), coverage_mean, collisions (total), views (total), failed_registrations
+  (p-ICP-GPA, total), error_gpa (largest per-episode mean alignment error, m),
+  error_gpa_mean, error_icp_mean, missed (objects no cluster matched, total). A failed
+  gate prints the measured value and exits with status 4; the outputs are written all the
+  same. E.g. --require \"f_score>=0.8\" --require \"collisions==0\".
 
 EXIT STATUS
   0 all episodes finished and every gate holds; 1 error; 2 usage; 4 a gate failed.")]
@@ -165,9 +169,12 @@ pub struct Summary {
     pub missing: Vec<usize>,
     /// Aggregates (the gateable metrics).
     pub aggregate: Aggregate,
+    /// Mode and parameters with the largest mean F-score (the primary ranking).
+    pub best_by_f_score: Option<BestSetting>,
     /// Mode and parameters with the largest mean coverage gain per view.
     pub best_by_coverage_per_view: Option<BestSetting>,
-    /// Mode and parameters with the smallest mean p-ICP-GPA alignment error.
+    /// Mode and parameters with the smallest mean alignment error of the model's
+    /// registration.
     pub best_by_registration_error: Option<BestSetting>,
     /// Per object over every episode: p-ICP-GPA and sequential ICP (Table III).
     pub registration: Vec<RegistrationLine>,
@@ -384,6 +391,7 @@ fn finish(
         episodes_finished: rows.len(),
         missing,
         aggregate,
+        best_by_f_score: best_setting(rows, |r| r.f_score, true),
         best_by_coverage_per_view: best_setting(rows, |r| r.coverage_gain_per_view, true),
         best_by_registration_error: best_setting(rows, |r| r.error_gpa, false),
         registration: registration_table(rows),
@@ -402,11 +410,14 @@ fn finish(
 fn summary_text(s: &Summary, out: &Path, plots: &[String]) -> String {
     let a = &s.aggregate;
     let mut t = format!(
-        "{} of {} episode(s): coverage min {:.1}% mean {:.1}%, {} view(s), {} collision(s), \
+        "{} of {} episode(s): F-score min {:.1} mean {:.1} (as acquired {:.1}), coverage min {:.1}% mean {:.1}%, {} view(s), {} collision(s), \
          registration error (the model's) mean {:.1} mm (max {:.1}), ICP {:.1} mm, {} failed registration(s); \
          {:.0} episodes/hour\n",
         s.episodes_finished,
         s.episodes_expected,
+        100.0 * a.f_score,
+        100.0 * a.f_score_mean,
+        100.0 * a.f_score_unregistered_mean,
         100.0 * a.coverage,
         100.0 * a.coverage_mean,
         a.views,
@@ -429,19 +440,22 @@ fn summary_text(s: &Summary, out: &Path, plots: &[String]) -> String {
         })
     };
     t += &format!(
-        "best by coverage gain per view: {}\nbest by registration error (the model's): {}\n",
+        "best by F-score: {}\nbest by coverage gain per view: {}\n\
+         best by registration error (the model's): {}\n",
+        setting(&s.best_by_f_score),
         setting(&s.best_by_coverage_per_view),
         setting(&s.best_by_registration_error)
     );
     if !s.registration.is_empty() {
         t += "registration (alignment error, mm: median / 95th percentile; the model's is the \
-              MAP registration; failures; worse than as acquired by > 0.5 mm; unconverged):\n";
+              MAP registration; failures; worse than as acquired by > 0.5 mm; unconverged; \
+              median F-score as acquired / of the model):\n";
         t += "  level object        n   acquired      map           p-ICP-GPA     ICP          \
-              fail map/pGPA/ICP  worse  unconv\n";
+              fail map/pGPA/ICP  worse  unconv  F acq / map\n";
         for l in &s.registration {
             let q = |v: (f64, f64)| format!("{:>5.1} / {:>5.1}", 1e3 * v.0, 1e3 * v.1);
             t += &format!(
-                "  x{:<4} {:<12} {:>2}   {}  {}  {}  {}  {}/{}/{}  {:>5}  {:>6}\n",
+                "  x{:<4} {:<12} {:>2}   {}  {}  {}  {}  {}/{}/{}  {:>5}  {:>6}  {:>5.1} / {:>5.1}\n",
                 l.level,
                 l.object,
                 l.experiments,
@@ -453,7 +467,9 @@ fn summary_text(s: &Summary, out: &Path, plots: &[String]) -> String {
                 l.pgpa_failures,
                 l.icp_failures,
                 l.worse_than_acquired,
-                l.unconverged
+                l.unconverged,
+                100.0 * l.f_score_medians.0,
+                100.0 * l.f_score_medians.1
             );
         }
     }

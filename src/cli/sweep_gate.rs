@@ -1,5 +1,5 @@
 //! [`Gate`]: a `--require METRIC OP VALUE` threshold on a sweep's aggregate (e.g.
-//! `coverage>=0.9`, `collisions==0`), parsed from the command line and checked against the
+//! `f_score>=0.8`, `collisions==0`), parsed from the command line and checked against the
 //! [`Aggregate`](super::sweep_results::Aggregate).
 
 use super::sweep_results::Aggregate;
@@ -130,6 +130,14 @@ mod tests {
         let r = g.check(&a);
         assert!(!r.pass && r.measured == 0.85 && r.gate == "coverage>=0.9");
         assert!("collisions == 0".parse::<Gate>().unwrap().check(&a).pass);
+        // The F-score: no episode scores 0, and 0.85 passes 0.8.
+        let g: Gate = "f_score >= 0.8".parse().unwrap();
+        assert!(!g.check(&a).pass);
+        let f = Aggregate {
+            f_score: 0.85,
+            ..Aggregate::default()
+        };
+        assert!(g.check(&f).pass && g.check(&f).gate == "f_score>=0.8");
         assert!("coverage < 0.9".parse::<Gate>().unwrap().check(&a).pass);
         assert!(
             "speed>=1"
@@ -154,7 +162,7 @@ mod tests {
     proptest! {
         /// Every metric and operator round-trips through its text.
         #[test]
-        fn round_trip(m in 0usize..9, op in 0usize..5, v in -1e6f64..1e6) {
+        fn round_trip(m in 0usize..Aggregate::METRICS.len(), op in 0usize..5, v in -1e6f64..1e6) {
             let ops = [">=", "<=", "==", ">", "<"];
             let text = format!("{}{}{}", Aggregate::METRICS[m], ops[op], v);
             let g: Gate = text.parse().unwrap();

@@ -1,7 +1,8 @@
 //! A sweep's results: one [`EpisodeRow`] per finished episode (its parameters and metrics,
 //! from the episode's report), `results.csv` from all rows, and the machine-readable
-//! [`Summary`] — aggregates, the best settings by coverage gain per view and by p-ICP-GPA
-//! error, and the per-object registration table (the paper's Table III on the twin).
+//! [`Summary`](super::sweep::Summary) — aggregates, the best settings by F-score, by
+//! coverage gain per view and by registration error, and the per-object registration
+//! table (the paper's Table III on the twin).
 
 use super::explore_report::ExploreReport;
 use super::sweep_grid::Episode;
@@ -35,7 +36,20 @@ pub struct EpisodeRow {
     pub failed_viewpoints: usize,
     /// Collisions in truth.
     pub collisions: usize,
-    /// Mean surface coverage over the matched objects (p-ICP-GPA model).
+    /// Mean F-score of the models over the matched objects, at the report's quality
+    /// tolerance (0 in rows written before it existed).
+    #[serde(default)]
+    pub f_score: f64,
+    /// Smallest object F-score (0 without a matched object).
+    #[serde(default)]
+    pub f_score_min: f64,
+    /// Mean F-score of the views as acquired (no registration).
+    #[serde(default)]
+    pub f_score_unregistered: f64,
+    /// Mean Chamfer distance of the models to the true surfaces (m).
+    #[serde(default)]
+    pub chamfer: f64,
+    /// Mean surface coverage over the matched objects (the model).
     pub coverage: f64,
     /// Smallest object coverage.
     pub coverage_min: f64,
@@ -91,6 +105,12 @@ pub struct ObjectRegistrationRow {
     /// The model's registration converged.
     #[serde(default)]
     pub converged: bool,
+    /// The model's F-score.
+    #[serde(default)]
+    pub f_score: f64,
+    /// The F-score of the views as acquired.
+    #[serde(default)]
+    pub f_score_acquired: f64,
 }
 
 fn one() -> f64 {
@@ -146,16 +166,16 @@ impl EpisodeRow {
                     pgpa: p.alignment,
                     pgpa_failed: p.failed,
                     converged: g.converged,
+                    f_score: o.quality.map_or(0.0, |q| q.f_score),
+                    f_score_acquired: o.quality_unregistered.map_or(0.0, |q| q.f_score),
                 })
             })
             .collect::<Vec<_>>();
         let (coverage, coverage_mid_range) = (mean(&cov), mean(&mid));
-        let precision = mean(
-            &objects
-                .iter()
-                .filter_map(|o| o.precision)
-                .collect::<Vec<_>>(),
-        );
+        let quality = |pick: &dyn Fn(&super::explore_report::ObjectEntry) -> Option<f64>| {
+            objects.iter().filter_map(pick).collect::<Vec<_>>()
+        };
+        let f_scores = quality(&|o| o.quality.map(|q| q.f_score));
         Self {
             index: episode.index,
             id: episode.id.clone(),
@@ -172,9 +192,13 @@ impl EpisodeRow {
             views,
             failed_viewpoints: report.totals.failed_viewpoints,
             collisions: report.totals.collisions,
+            f_score: mean(&f_scores),
+            f_score_min: f_scores.iter().copied().reduce(f64::min).unwrap_or(0.0),
+            f_score_unregistered: mean(&quality(&|o| o.quality_unregistered.map(|q| q.f_score))),
+            chamfer: mean(&quality(&|o| o.quality.map(|q| q.chamfer))),
             coverage,
             coverage_min: cov.iter().copied().fold(f64::INFINITY, f64::min).min(1.0),
-            precision,
+            precision: mean(&quality(&|o| o.quality.map(|q| q.precision))),
             coverage_mid_range,
             coverage_gain_per_view: if per_object_views > 0.0 {
                 (coverage - coverage_mid_range) / per_object_views
@@ -201,15 +225,19 @@ impl EpisodeRow {
 }
 
 /// The CSV columns after the parameters (`time_s` last).
-const METRICS: [&str; 16] = [
+const METRICS: [&str; 20] = [
     "objects",
     "missed",
     "views",
     "failed_viewpoints",
     "collisions",
+    "f_score",
+    "f_score_min",
+    "f_score_unregistered",
+    "chamfer",
+    "precision",
     "coverage",
     "coverage_min",
-    "precision",
     "coverage_mid_range",
     "coverage_gain_per_view",
     "error_gpa",
@@ -246,9 +274,13 @@ pub fn csv_text(rows: &[EpisodeRow]) -> Result<String> {
             r.views.to_string(),
             r.failed_viewpoints.to_string(),
             r.collisions.to_string(),
+            format!("{:.6}", r.f_score),
+            format!("{:.6}", r.f_score_min),
+            format!("{:.6}", r.f_score_unregistered),
+            format!("{:.6}", r.chamfer),
+            format!("{:.6}", r.precision),
             format!("{:.6}", r.coverage),
             format!("{:.6}", r.coverage_min),
-            format!("{:.6}", r.precision),
             format!("{:.6}", r.coverage_mid_range),
             format!("{:.6}", r.coverage_gain_per_view),
             format!("{:.6}", r.error_gpa),
@@ -267,6 +299,12 @@ pub fn csv_text(rows: &[EpisodeRow]) -> Result<String> {
 /// Aggregates over all episodes (the metrics `--require` can gate on).
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct Aggregate {
+    /// Smallest per-episode mean F-score.
+    pub f_score: f64,
+    /// Mean of the per-episode mean F-scores.
+    pub f_score_mean: f64,
+    /// Mean of the per-episode mean F-scores of the views as acquired.
+    pub f_score_unregistered_mean: f64,
     /// Smallest per-episode mean coverage.
     pub coverage: f64,
     /// Mean of the per-episode mean coverages.
@@ -293,9 +331,23 @@ impl Aggregate {
     /// The aggregate of `rows`.
     pub fn of(rows: &[EpisodeRow]) -> Self {
         let cov: Vec<f64> = rows.iter().map(|r| r.coverage).collect();
+        let f: Vec<f64> = rows.iter().map(|r| r.f_score).collect();
         let gpa: Vec<f64> = rows.iter().map(|r| r.error_gpa).collect();
         let time: f64 = rows.iter().map(|r| r.time_s).sum();
         Self {
+            // No episode: a gate on the F-score then fails.
+            f_score: if f.is_empty() {
+                0.0
+            } else {
+                f.iter().copied().fold(f64::INFINITY, f64::min)
+            },
+            f_score_mean: mean(&f),
+            f_score_unregistered_mean: mean(
+                &rows
+                    .iter()
+                    .map(|r| r.f_score_unregistered)
+                    .collect::<Vec<_>>(),
+            ),
             // No episode covers nothing: a gate on coverage then fails.
             coverage: if cov.is_empty() {
                 0.0
@@ -321,6 +373,9 @@ impl Aggregate {
     /// A gateable metric by name.
     pub fn metric(&self, name: &str) -> Option<f64> {
         Some(match name {
+            "f_score" => self.f_score,
+            "f_score_mean" => self.f_score_mean,
+            "f_score_unregistered_mean" => self.f_score_unregistered_mean,
             "coverage" => self.coverage,
             "coverage_mean" => self.coverage_mean,
             "collisions" => self.collisions as f64,
@@ -335,7 +390,10 @@ impl Aggregate {
     }
 
     /// The names [`metric`](Self::metric) knows.
-    pub const METRICS: [&'static str; 9] = [
+    pub const METRICS: [&'static str; 12] = [
+        "f_score",
+        "f_score_mean",
+        "f_score_unregistered_mean",
         "coverage",
         "coverage_mean",
         "collisions",
@@ -419,6 +477,8 @@ pub struct RegistrationLine {
     pub unconverged: usize,
     /// The model's registrations that end worse than as acquired by more than 0.5 mm.
     pub worse_than_acquired: usize,
+    /// Median F-score of the views as acquired and of the model.
+    pub f_score_medians: (f64, f64),
 }
 
 /// Median and 95th percentile (nearest rank) of `v`.
@@ -450,7 +510,11 @@ pub fn registration_table(rows: &[EpisodeRow]) -> Vec<RegistrationLine> {
             let i: Vec<f64> = v.iter().map(|o| o.icp).collect();
             let a: Vec<f64> = v.iter().map(|o| o.acquired).collect();
             let p: Vec<f64> = v.iter().map(|o| o.pgpa).collect();
+            let median = |pick: fn(&ObjectRegistrationRow) -> f64| {
+                quantiles(&v.iter().map(|o| pick(o)).collect::<Vec<_>>()).0
+            };
             RegistrationLine {
+                f_score_medians: (median(|o| o.f_score_acquired), median(|o| o.f_score)),
                 level: level as f64 / 1000.0,
                 acquired_quantiles: quantiles(&a),
                 map_quantiles: quantiles(&g),
@@ -487,6 +551,10 @@ mod tests {
             views: 2,
             failed_viewpoints: 0,
             collisions: 0,
+            f_score: coverage - 0.1,
+            f_score_min: coverage - 0.1,
+            f_score_unregistered: coverage - 0.2,
+            chamfer: 0.004,
             coverage,
             coverage_min: coverage,
             precision: 0.9,
@@ -508,6 +576,8 @@ mod tests {
                 pgpa: 3.0 * gpa,
                 pgpa_failed: true,
                 converged: true,
+                f_score: coverage - 0.1,
+                f_score_acquired: coverage - 0.2,
             }],
             time_s: 10.0,
         }
@@ -523,6 +593,14 @@ mod tests {
         let a = Aggregate::of(&rows);
         assert_eq!(a.coverage, 0.6);
         assert_eq!(Aggregate::of(&[]).coverage, 0.0);
+        assert!((a.f_score - 0.5).abs() < 1e-12);
+        assert!((a.f_score_mean - 2.0 / 3.0).abs() < 1e-12);
+        assert_eq!(Aggregate::of(&[]).f_score, 0.0);
+        let best = best_setting(&rows, |r| r.f_score, true).unwrap();
+        assert_eq!(
+            (best.setting["nbv.alpha_u"].as_str(), best.episodes),
+            ("4.0", 1)
+        );
         assert!((a.coverage_mean - 2.3 / 3.0).abs() < 1e-12);
         assert_eq!(a.error_gpa, 0.03);
         assert_eq!(a.episodes_per_hour, 360.0);
@@ -539,8 +617,14 @@ mod tests {
             (3, 0, 3)
         );
         assert!((t[0].gpa.0 - 0.02).abs() < 1e-12);
+        // Medians of F (0.7, 0.5, 0.8) and as acquired (0.6, 0.4, 0.7).
+        assert!((t[0].f_score_medians.0 - 0.6).abs() < 1e-12);
+        assert!((t[0].f_score_medians.1 - 0.7).abs() < 1e-12);
         let csv = csv_text(&rows).unwrap();
-        assert!(csv.starts_with("index,id,scene,mode,seed,nbv.alpha_u,objects,"));
+        assert!(csv.starts_with(
+            "index,id,scene,mode,seed,nbv.alpha_u,objects,missed,views,failed_viewpoints,\
+             collisions,f_score,f_score_min,f_score_unregistered,chamfer,precision,coverage,"
+        ));
         assert_eq!(csv.lines().count(), 4);
         assert!(
             csv.lines()

@@ -17,5 +17,5 @@ pub use outlier_filter::StatisticalOutlierFilter;
 pub use plane_ransac::{PlaneFit, PlaneRansac};
 pub use point_cloud::{CloudError, PointCloud};
 pub use processing_error::ProcessingError;
-pub use proximity::{near_mask, neighbour_counts};
+pub use proximity::{near_mask, nearest_distances, neighbour_counts};
 pub use voxel_filter::VoxelFilter;

@@ -1,17 +1,17 @@
 //! [`model_precision`]: the share of a model's points that lie within a tolerance of the
 //! true surface — the other half of [`surface_coverage`](super::surface_coverage) (recall):
-//! a model padded with table points or noise covers more and is worse.
+//! a model padded with table points or noise covers more and is worse. The precision of
+//! [`model_quality`](super::model_quality), which says how it is measured.
 
 use crate::cloud::PointCloud;
 use crate::mesh::TriMesh;
-use nalgebra::Point3;
 
-use super::sample_surface;
-use super::surface_coverage::count_near;
+use super::model_quality;
 
 /// Of the finite points of `model`, the share within `tolerance` of `surface`, measured
 /// against `samples` area-weighted samples of the surface (seeded; take them dense
-/// against the tolerance). `None` for an empty model or surface.
+/// against the tolerance: [`quality_samples`](super::quality_samples)). `None` for an
+/// empty model or surface.
 ///
 /// ```
 /// use nbv_core::cloud::PointCloud;
@@ -32,16 +32,5 @@ pub fn model_precision(
     samples: usize,
     seed: u64,
 ) -> Option<f64> {
-    let surface = sample_surface(surface, samples, seed);
-    let finite: Vec<Point3<f64>> = model
-        .points
-        .iter()
-        .filter(|p| p.iter().all(|c| c.is_finite()))
-        .copied()
-        .collect();
-    if surface.is_empty() || finite.is_empty() {
-        return None;
-    }
-    let near = count_near(&surface, &finite, tolerance);
-    Some(near as f64 / finite.len() as f64)
+    model_quality(surface, model, tolerance, f64::NEG_INFINITY, samples, seed).map(|q| q.precision)
 }
