@@ -25,8 +25,8 @@
 use super::sweep_gate::{Gate, GateResult};
 use super::sweep_grid::{Episode, SweepGrid};
 use super::sweep_results::{
-    Aggregate, BestSetting, EpisodeRow, RegistrationLine, best_setting, csv_text,
-    registration_table,
+    Aggregate, BestSetting, EpisodeRow, RegistrationLine, RobustnessLine, best_setting, csv_text,
+    registration_table, robustness_table,
 };
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
@@ -61,6 +61,7 @@ enum SweepCommand {
 GRID FILE (TOML)
   scenes = [\"paper-env1\", \"my-scene.toml\"]      # files or built-in names
   generated = { seeds = [1, 2], objects = 1 }     # scenes by `nbv scene generate`
+                                                  # (objects = [1, 4]: each seed, each count)
   seeds = [1, 2]                                  # episode seeds (default: the scene's)
   modes = [\"hybrid\", \"mid-only\"]                 # default: hybrid
   [params]                                        # dotted scene keys and values to try
@@ -76,7 +77,9 @@ GATES (--require, repeatable)
   f_score_unregistered_mean (the views as acquired), coverage (smallest per-episode mean
   coverage), coverage_mean, collisions (total), views (total), failed_registrations
   (p-ICP-GPA, total), error_gpa (largest per-episode mean alignment error, m),
-  error_gpa_mean, error_icp_mean, missed (objects no cluster matched, total). A failed
+  error_gpa_mean, error_icp_mean, missed (objects no cluster matched, total), split
+  (objects explored as several clusters, total), phantoms (clusters explored that are no
+  object and no unknown obstacle, total). A failed
   gate prints the measured value and exits with status 4; the outputs are written all the
   same. E.g. --require \"f_score>=0.8\" --require \"collisions==0\".
 
@@ -178,6 +181,8 @@ pub struct Summary {
     pub best_by_registration_error: Option<BestSetting>,
     /// Per object over every episode: p-ICP-GPA and sequential ICP (Table III).
     pub registration: Vec<RegistrationLine>,
+    /// Per error level: missed, split and phantom objects, collisions, F-scores.
+    pub robustness: Vec<RobustnessLine>,
     /// The gates and their outcomes.
     pub gates: Vec<GateResult>,
 }
@@ -395,6 +400,7 @@ fn finish(
         best_by_coverage_per_view: best_setting(rows, |r| r.coverage_gain_per_view, true),
         best_by_registration_error: best_setting(rows, |r| r.error_gpa, false),
         registration: registration_table(rows),
+        robustness: robustness_table(rows),
         gates: gate_results.clone(),
     };
     write_json(&out.join("summary.json"), &summary)?;
@@ -470,6 +476,28 @@ fn summary_text(s: &Summary, out: &Path, plots: &[String]) -> String {
                 l.unconverged,
                 100.0 * l.f_score_medians.0,
                 100.0 * l.f_score_medians.1
+            );
+        }
+    }
+    if !s.robustness.is_empty() {
+        t += "per error level (objects of the scenes; missed, split into several clusters, \
+              phantom clusters explored, clusters dropped as not objects; collisions; \
+              F-score per object, median / 5th percentile, as acquired and of the model):\n";
+        for l in &s.robustness {
+            t += &format!(
+                "  x{:<4} {:>3} episode(s) {:>4} objects  missed {:>2}  split {:>2}  phantoms {:>2}  dropped {:>2}  collisions {:>2}  F acquired {:>5.1} / {:>5.1}  model {:>5.1} / {:>5.1}\n",
+                l.level,
+                l.episodes,
+                l.objects,
+                l.missed,
+                l.split,
+                l.phantoms,
+                l.dropped,
+                l.collisions,
+                100.0 * l.f_score_acquired.0,
+                100.0 * l.f_score_acquired.1,
+                100.0 * l.f_score_model.0,
+                100.0 * l.f_score_model.1
             );
         }
     }

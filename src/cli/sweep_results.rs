@@ -30,6 +30,20 @@ pub struct EpisodeRow {
     pub objects: usize,
     /// Scene objects no cluster matched.
     pub missed: usize,
+    /// Scene objects more than one explored cluster matched (0 in older rows).
+    #[serde(default)]
+    pub split: usize,
+    /// Clusters explored that are no scene object and no unknown obstacle (0 in older
+    /// rows).
+    #[serde(default)]
+    pub phantoms: usize,
+    /// Clusters dropped after their first view or as slivers of a known face (0 in older
+    /// rows).
+    #[serde(default)]
+    pub dropped: usize,
+    /// The error level (`errors.scale` when swept, else 1).
+    #[serde(default = "one")]
+    pub level: f64,
     /// Short-range views taken.
     pub views: usize,
     /// Viewpoints that failed.
@@ -152,6 +166,7 @@ impl EpisodeRow {
             .unwrap_or(1.0);
         let registrations = objects
             .iter()
+            .filter(|o| o.truth == "object")
             .filter_map(|o| {
                 let (g, i) = (o.error_gpa.as_ref()?, o.error_icp.as_ref()?);
                 let (a, p) = (o.error_unregistered.as_ref()?, o.error_pgpa.as_ref()?);
@@ -187,8 +202,18 @@ impl EpisodeRow {
                 .iter()
                 .map(|(k, v)| (k.clone(), v.to_string()))
                 .collect(),
-            objects: objects.len() + report.missed_objects.len(),
+            objects: objects
+                .iter()
+                .filter(|o| o.truth == "object")
+                .map(|o| o.name.as_str())
+                .collect::<std::collections::BTreeSet<_>>()
+                .len()
+                + report.missed_objects.len(),
             missed: report.missed_objects.len(),
+            split: report.split_objects.len(),
+            phantoms: report.phantom_clusters,
+            dropped: report.dropped_clusters + report.phase_one.slivers.len(),
+            level,
             views,
             failed_viewpoints: report.totals.failed_viewpoints,
             collisions: report.totals.collisions,
@@ -225,9 +250,13 @@ impl EpisodeRow {
 }
 
 /// The CSV columns after the parameters (`time_s` last).
-const METRICS: [&str; 20] = [
+const METRICS: [&str; 24] = [
     "objects",
     "missed",
+    "split",
+    "phantoms",
+    "dropped",
+    "level",
     "views",
     "failed_viewpoints",
     "collisions",
@@ -271,6 +300,10 @@ pub fn csv_text(rows: &[EpisodeRow]) -> Result<String> {
         rec.extend([
             r.objects.to_string(),
             r.missed.to_string(),
+            r.split.to_string(),
+            r.phantoms.to_string(),
+            r.dropped.to_string(),
+            r.level.to_string(),
             r.views.to_string(),
             r.failed_viewpoints.to_string(),
             r.collisions.to_string(),
@@ -323,6 +356,10 @@ pub struct Aggregate {
     pub error_icp_mean: f64,
     /// Scene objects no cluster matched, all episodes.
     pub missed: usize,
+    /// Objects split into several explored clusters, over all episodes.
+    pub split: usize,
+    /// Phantom clusters explored, over all episodes.
+    pub phantoms: usize,
     /// Episodes per hour at the measured episode times (one job).
     pub episodes_per_hour: f64,
 }
@@ -362,6 +399,8 @@ impl Aggregate {
             error_gpa_mean: mean(&gpa),
             error_icp_mean: mean(&rows.iter().map(|r| r.error_icp).collect::<Vec<_>>()),
             missed: rows.iter().map(|r| r.missed).sum(),
+            split: rows.iter().map(|r| r.split).sum(),
+            phantoms: rows.iter().map(|r| r.phantoms).sum(),
             episodes_per_hour: if time > 0.0 {
                 3600.0 * rows.len() as f64 / time
             } else {
@@ -385,12 +424,14 @@ impl Aggregate {
             "error_gpa_mean" => self.error_gpa_mean,
             "error_icp_mean" => self.error_icp_mean,
             "missed" => self.missed as f64,
+            "split" => self.split as f64,
+            "phantoms" => self.phantoms as f64,
             _ => return None,
         })
     }
 
     /// The names [`metric`](Self::metric) knows.
-    pub const METRICS: [&'static str; 12] = [
+    pub const METRICS: [&'static str; 14] = [
         "f_score",
         "f_score_mean",
         "f_score_unregistered_mean",
@@ -403,6 +444,8 @@ impl Aggregate {
         "error_gpa_mean",
         "error_icp_mean",
         "missed",
+        "split",
+        "phantoms",
     ];
 }
 
@@ -481,16 +524,83 @@ pub struct RegistrationLine {
     pub f_score_medians: (f64, f64),
 }
 
+/// One error level of a robustness sweep: what phase 1 made of the scenes' objects and
+/// how good the models are, over every episode at that level.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RobustnessLine {
+    /// The error level (`errors.scale`).
+    pub level: f64,
+    /// Episodes.
+    pub episodes: usize,
+    /// Scene objects over the episodes.
+    pub objects: usize,
+    /// Objects no cluster matched.
+    pub missed: usize,
+    /// Objects explored as several clusters.
+    pub split: usize,
+    /// Phantom clusters explored.
+    pub phantoms: usize,
+    /// Clusters dropped as not objects.
+    pub dropped: usize,
+    /// Collisions.
+    pub collisions: usize,
+    /// Per object: median and 5th percentile of the F-score of the views as acquired.
+    pub f_score_acquired: (f64, f64),
+    /// … of the model.
+    pub f_score_model: (f64, f64),
+}
+
+/// The robustness table: per error level over every episode.
+pub fn robustness_table(rows: &[EpisodeRow]) -> Vec<RobustnessLine> {
+    let mut by: BTreeMap<i64, Vec<&EpisodeRow>> = BTreeMap::new();
+    for r in rows {
+        by.entry((r.level * 1000.0).round() as i64)
+            .or_default()
+            .push(r);
+    }
+    by.into_iter()
+        .map(|(level, v)| {
+            let per_object = |pick: fn(&ObjectRegistrationRow) -> f64| {
+                let f = sorted(
+                    &v.iter()
+                        .flat_map(|r| r.registrations.iter().map(pick))
+                        .collect::<Vec<_>>(),
+                );
+                (nearest_rank(&f, 0.5), nearest_rank(&f, 0.05))
+            };
+            RobustnessLine {
+                level: level as f64 / 1000.0,
+                episodes: v.len(),
+                objects: v.iter().map(|r| r.objects).sum(),
+                missed: v.iter().map(|r| r.missed).sum(),
+                split: v.iter().map(|r| r.split).sum(),
+                phantoms: v.iter().map(|r| r.phantoms).sum(),
+                dropped: v.iter().map(|r| r.dropped).sum(),
+                collisions: v.iter().map(|r| r.collisions).sum(),
+                f_score_acquired: per_object(|o| o.f_score_acquired),
+                f_score_model: per_object(|o| o.f_score),
+            }
+        })
+        .collect()
+}
+
 /// Median and 95th percentile (nearest rank) of `v`.
 fn quantiles(v: &[f64]) -> (f64, f64) {
+    let s = sorted(v);
+    (nearest_rank(&s, 0.5), nearest_rank(&s, 0.95))
+}
+
+fn sorted(v: &[f64]) -> Vec<f64> {
     let mut s = v.to_vec();
     s.sort_by(f64::total_cmp);
-    let at = |q: f64| {
-        s.get(((q * s.len() as f64).ceil() as usize).saturating_sub(1))
-            .copied()
-            .unwrap_or(0.0)
-    };
-    (at(0.5), at(0.95))
+    s
+}
+
+/// The `q` quantile of sorted `s` by nearest rank (0 when empty).
+fn nearest_rank(s: &[f64], q: f64) -> f64 {
+    s.get(((q * s.len() as f64).ceil() as usize).saturating_sub(1))
+        .copied()
+        .unwrap_or(0.0)
 }
 
 /// Table III over the rows: per error level and object, over every episode that
@@ -548,6 +658,10 @@ mod tests {
             params: vec![("nbv.alpha_u".into(), alpha.into())],
             objects: 1,
             missed: 0,
+            split: 0,
+            phantoms: 0,
+            dropped: 0,
+            level: 1.0,
             views: 2,
             failed_viewpoints: 0,
             collisions: 0,
@@ -622,10 +736,21 @@ mod tests {
         assert!((t[0].f_score_medians.1 - 0.7).abs() < 1e-12);
         let csv = csv_text(&rows).unwrap();
         assert!(csv.starts_with(
-            "index,id,scene,mode,seed,nbv.alpha_u,objects,missed,views,failed_viewpoints,\
-             collisions,f_score,f_score_min,f_score_unregistered,chamfer,precision,coverage,"
+            "index,id,scene,mode,seed,nbv.alpha_u,objects,missed,split,phantoms,dropped,level,\
+             views,failed_viewpoints,collisions,f_score,f_score_min,f_score_unregistered,chamfer,precision,coverage,"
         ));
         assert_eq!(csv.lines().count(), 4);
+        // One level: three objects, F per object as acquired (0.6, 0.4, 0.7), model
+        // (0.7, 0.5, 0.8): medians and 5th percentiles.
+        let r = robustness_table(&rows);
+        assert_eq!(r.len(), 1);
+        assert_eq!(
+            (r[0].episodes, r[0].objects, r[0].missed, r[0].split),
+            (3, 3, 0, 0)
+        );
+        let near = |a: (f64, f64), b: (f64, f64)| (a.0 - b.0).abs() + (a.1 - b.1).abs() < 1e-12;
+        assert!(near(r[0].f_score_acquired, (0.6, 0.4)), "{:?}", r[0]);
+        assert!(near(r[0].f_score_model, (0.7, 0.5)), "{:?}", r[0]);
         assert!(
             csv.lines()
                 .all(|l| l.ends_with("time_s") || l.ends_with("10.000"))
