@@ -47,8 +47,11 @@ impl Default for GeneratorConfig {
         Self {
             mesh_dir: assets.join("meshes"),
             urdf: assets.join("urdf/comau_smart_six.urdf"),
-            region_x: [0.55, 0.95],
-            region_y: [-0.45, 0.45],
+            // The default sweep sees the table top from x = 0.645 m on (and an object's
+            // upper parts a little nearer): a base nearer than 0.66 m leaves most of the
+            // object out of phase 1.
+            region_x: [0.66, 1.0],
+            region_y: [-0.55, 0.55],
             min_gap: 0.10,
             attempts: 500,
             min_reachable_viewpoints: 1,
