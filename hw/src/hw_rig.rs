@@ -9,7 +9,9 @@ use crate::dinast::{
 };
 use crate::lms400::{Lms400Config, Lms400Scanner};
 use crate::rig_file::RigFile;
-use nbv_core::rig::{DepthCameraSpec, LineScannerSpec, RigError};
+use nbv_core::kinematics::Robot;
+use nbv_core::math::Pose;
+use nbv_core::rig::{DepthCameraSpec, LineScannerSpec, Rig, RigError};
 use std::time::Duration;
 
 /// How the camera driver reaches its device: libusb, or an emulated device in this process.
@@ -66,6 +68,18 @@ pub struct HwRig {
 }
 
 impl HwRig {
+    /// The rig as the pipeline takes it: `robot` (the model with this rig's sensor mounts,
+    /// [`RigFile::robot`]) with its base at `base`, and the three devices, borrowed.
+    pub fn rig(&mut self, robot: Robot, base: Pose) -> Rig<'_> {
+        Rig {
+            robot,
+            base,
+            arm: &mut self.arm,
+            scanner: &mut self.scanner,
+            camera: &mut self.camera,
+        }
+    }
+
     /// Connects to the devices `rig` names, the scanner configured for `laser` and the
     /// camera resampled to `camera`; `camera_transport` is `None` to open the USB device the
     /// rig file selects.

@@ -60,6 +60,14 @@ pub enum RigFileError {
         /// What is wrong.
         message: String,
     },
+    /// The robot model (URDF) could not be loaded.
+    #[error("robot model {urdf}: {message}")]
+    Robot {
+        /// The URDF.
+        urdf: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
     /// A hand-eye transform names a frame the robot model cannot mount it on.
     #[error("{path}: {key}: {message}")]
     HandEye {
@@ -266,6 +274,22 @@ impl RigFile {
             }
         }
         Ok(())
+    }
+
+    /// The kinematic model the pipeline plans with on this rig: the robot of `urdf` with
+    /// the sensors mounted as the file says ([`mount_sensors`](Self::mount_sensors)).
+    pub fn robot(
+        &self,
+        urdf: &std::path::Path,
+        laser_frame: &str,
+        camera_frame: &str,
+    ) -> Result<Robot, RigFileError> {
+        let mut robot = Robot::from_urdf_file(urdf).map_err(|e| RigFileError::Robot {
+            urdf: urdf.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        self.mount_sensors(&mut robot, laser_frame, camera_frame)?;
+        Ok(robot)
     }
 
     /// Mounts the sensors on `robot` as the file's hand-eye transforms say (`laser_frame`

@@ -3,7 +3,6 @@
 //! the scene's twin. The only place that knows both backends.
 
 use anyhow::{Context, Result};
-use nbv_core::kinematics::Robot;
 use nbv_core::pipeline::{Exploration, ExploreConfig, ExploreObserver, explore as run_pipeline};
 use nbv_hw::emulated_rig::{BackingRig, EmulatedRig};
 use nbv_hw::hw_rig::HwRig;
@@ -23,9 +22,7 @@ pub fn explore(
     let rig_file = RigFile::load(rig)?;
     let laser = scene.sensors.mid_range.spec();
     let camera = scene.sensors.short_range.spec();
-    let mut robot = Robot::from_urdf_file(&scene.robot.urdf)
-        .with_context(|| format!("robot model {}", scene.robot.urdf.display()))?;
-    rig_file.mount_sensors(&mut robot, &laser.frame, &camera.frame)?;
+    let robot = rig_file.robot(&scene.robot.urdf, &laser.frame, &camera.frame)?;
     let base = scene.robot.base.to_pose();
 
     let mut emulators = if emulate {
@@ -50,15 +47,7 @@ pub fn explore(
     };
     let mut hw = HwRig::connect(&devices, laser, camera, transport)
         .with_context(|| format!("connecting to the rig of {}", rig.display()))?;
-    let exploration = run_pipeline(
-        &robot,
-        &base,
-        &mut hw.arm,
-        &mut hw.scanner,
-        &mut hw.camera,
-        config,
-        observer,
-    )?;
+    let exploration = run_pipeline(&mut hw.rig(robot, base), config, observer)?;
     drop(hw);
     if let Some(e) = emulators {
         let stats = e.finish()?;

@@ -6,12 +6,13 @@
 use super::explore_report::true_object_of;
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use nbv_core::kinematics::IkSolution;
 use nbv_core::math::pose_to_xyz_rpy;
 use nbv_core::nbv::{NextBestView, VisitedViews};
 use nbv_core::occupancy::ReducedMap;
-use nbv_core::pipeline::{ExploreMode, NoObserver, ObjectRegion};
-use nbv_core::planning::{CollisionWorld, MotionPlanner};
+use nbv_core::pipeline::{
+    ExploreMode, NoObserver, ObjectRegion, ViewCandidates, plan_clearing_start, view_candidates,
+    viewing_centre,
+};
 use nbv_core::rig::{Arm, DepthCamera, RigError};
 use nbv_sim::rig::SimRig;
 use serde::Serialize;
@@ -125,8 +126,6 @@ fn list_views(scene: &nbv_scenes::Scene, args: &ViewsArgs) -> Result<Vec<ObjectV
     let (robot, _) = rig.robot_and_base();
     let reduced = ReducedMap::from_grid(&phase.grid);
     let nbv = NextBestView::new(config.nbv, rig.camera.spec())?;
-    let world = CollisionWorld::new(&robot, &config.obstacles)?.with_reduced_map(&reduced);
-    let planner = MotionPlanner::new(world, config.planner)?;
     let start = rig.arm.joints()?;
     let mut out = Vec::new();
     let mut query: u64 = 0;
@@ -137,19 +136,17 @@ fn list_views(scene: &nbv_scenes::Scene, args: &ViewsArgs) -> Result<Vec<ObjectV
         if args.object.as_ref().is_some_and(|n| n != &name) {
             continue;
         }
-        // As the pipeline does: the sphere around the cluster at the object's middle
-        // height, and a sample is reachable with the first roll about the optical
-        // axis that has an IK solution free of collision.
-        let usable = |s: &IkSolution| !planner.world().in_collision(&s.joints);
-        let centre =
-            ObjectRegion::of_cluster(cluster, segmentation.table.as_ref(), config.object_margin)
-                .viewing_centre(&cluster.centroid);
-        let list = nbv.candidates_around_where(
+        // The pipeline's own candidate step, as for the object's first view.
+        let region =
+            ObjectRegion::of_cluster(cluster, segmentation.table.as_ref(), config.object_margin);
+        let centre = viewing_centre(&cloud, &[], &region).context("an empty cluster")?;
+        let ViewCandidates { mut planner, list } = view_candidates(
             &robot,
+            &config,
+            &nbv,
             &reduced,
             &centre,
             &VisitedViews::default(),
-            &usable,
         )?;
         let mut rows = Vec::new();
         for c in &list.candidates {
@@ -175,7 +172,7 @@ fn list_views(scene: &nbv_scenes::Scene, args: &ViewsArgs) -> Result<Vec<ObjectV
             };
             if row.reachable && !args.no_plan {
                 query += 1;
-                match planner.plan(&start, &goals, config.seed ^ query) {
+                match plan_clearing_start(&mut planner, &start, &goals, config.seed ^ query) {
                     Ok(p) => {
                         row.planned = Some(true);
                         if !args.no_check {

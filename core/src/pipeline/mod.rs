@@ -5,27 +5,40 @@
 //! the rig's pose uncertainty as the prior; the paper's p-ICP-GPA and sequential ICP
 //! beside it).
 //!
-//! [`explore`] drives an [`Arm`](crate::rig::Arm), a
-//! [`LineScanner`](crate::rig::LineScanner) and a
-//! [`DepthCamera`](crate::rig::DepthCamera); it never knows whether they are the twin or
-//! the real devices. Progress goes to an [`ExploreObserver`].
+//! [`explore`] drives a [`Rig`](crate::rig::Rig) — an arm, a line scanner and a depth
+//! camera with the robot model — and never knows whether it is the twin or the real
+//! devices. Progress goes to an [`ExploreObserver`]. One file per stage of Figure 2:
+//! `phase_one` (sweep, workcell alignment, segmentation, grid), `object_loop` (Algorithm
+//! 1 for one object), `candidates` (Algorithm 2 around the object), `plan_and_execute`,
+//! `acquire_and_update`, `register_views`; `exploration` runs them in order.
 
+mod acquire_and_update;
+mod candidates;
+mod episode;
 mod exploration;
 mod explore_config;
 mod explore_event;
 mod hand_eye;
 mod object_crop;
+mod object_loop;
+mod phase_one;
 mod pipeline_error;
+mod plan_and_execute;
 mod pose_uncertainty;
+mod register_views;
 mod results;
+mod step_timer;
 mod table_filter;
 
-pub use exploration::{explore, run_phase_one};
+pub use candidates::{ViewCandidates, view_candidates, viewing_centre};
+pub use exploration::explore;
 pub use explore_config::{ExploreConfig, ExploreMode};
 pub use explore_event::{ExploreEvent, ExploreObserver, NoObserver};
 pub use hand_eye::{HandEyeEstimate, estimate_hand_eye};
 pub use object_crop::ObjectRegion;
+pub use phase_one::run_phase_one;
 pub use pipeline_error::PipelineError;
+pub use plan_and_execute::{goals_at, plan_clearing_start};
 pub use pose_uncertainty::PoseUncertainty;
 pub use results::{
     AcquiredView, Exploration, ObjectExploration, ObjectRegistration, ObjectStop, PhaseOneReport,

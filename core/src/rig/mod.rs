@@ -1,8 +1,9 @@
 //! The boundary between the pipeline and a rig: what the pipeline asks of an arm, a line
 //! scanner (mid range) and a depth camera (short range).
 //!
-//! The twin (`nbv-sim`) and the real drivers (`nbv-hw`) implement these traits; the
-//! pipeline is generic over them and never knows which one it drives.
+//! The twin (`nbv-sim`) and the real drivers (`nbv-hw`) implement these traits and lend
+//! them, with the robot model and base, as one [`Rig`]; the pipeline never knows which
+//! one it drives.
 //!
 //! Time is the rig's own clock in seconds (simulated time in the twin, the host's
 //! monotonic clock on hardware); a scan line and the arm's joint samples share it, so the
@@ -13,6 +14,7 @@ mod depth_camera;
 mod frame_average;
 mod line_scanner;
 mod rig_error;
+mod robot_rig;
 mod sensor_cloud;
 mod sweep;
 mod truth;
@@ -22,6 +24,7 @@ pub use depth_camera::{DepthCamera, DepthCameraSpec, DepthFrame};
 pub use frame_average::average_frames;
 pub use line_scanner::{LineScanner, LineScannerSpec, ScanLine};
 pub use rig_error::RigError;
+pub use robot_rig::Rig;
 pub use sensor_cloud::{SensorCloudError, depth_frame_to_cloud, lines_to_cloud, sensor_pose};
 pub use sweep::{SweepData, acquire_sweep};
 pub use truth::{TruthHit, TruthLabel};

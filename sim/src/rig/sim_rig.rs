@@ -42,7 +42,7 @@ use nbv_core::pipeline::{
 };
 use nbv_core::rig::{
     Arm, DepthCamera, DepthCameraSpec, DepthFrame, JointPath, LineScanner, LineScannerSpec, Motion,
-    RigError, ScanLine,
+    Rig, RigError, ScanLine,
 };
 use std::cell::{Ref, RefCell};
 use std::rc::Rc;
@@ -130,23 +130,26 @@ impl SimRig {
         (s.world().robot().clone(), *s.world().base())
     }
 
-    /// The whole method on this rig ([`nbv_core::pipeline::explore`]) with the twin's
-    /// robot model and base.
+    /// The rig as the pipeline takes it: the twin's robot model and base, and the three
+    /// devices, borrowed.
+    pub fn rig(&mut self) -> Rig<'_> {
+        let (robot, base) = self.robot_and_base();
+        Rig {
+            robot,
+            base,
+            arm: &mut self.arm,
+            scanner: &mut self.scanner,
+            camera: &mut self.camera,
+        }
+    }
+
+    /// The whole method on this rig ([`nbv_core::pipeline::explore`]).
     pub fn explore(
         &mut self,
         config: &ExploreConfig,
         observer: &mut dyn ExploreObserver,
     ) -> Result<Exploration, PipelineError> {
-        let (robot, base) = self.robot_and_base();
-        explore(
-            &robot,
-            &base,
-            &mut self.arm,
-            &mut self.scanner,
-            &mut self.camera,
-            config,
-            observer,
-        )
+        explore(&mut self.rig(), config, observer)
     }
 
     /// Phase 1 only ([`nbv_core::pipeline::run_phase_one`]) on this rig.
@@ -155,16 +158,7 @@ impl SimRig {
         config: &ExploreConfig,
         observer: &mut dyn ExploreObserver,
     ) -> Result<(PhaseOneReport, ObjectSegmentation), PipelineError> {
-        let (robot, base) = self.robot_and_base();
-        run_phase_one(
-            &robot,
-            &base,
-            &mut self.arm,
-            &mut self.scanner,
-            &mut self.camera,
-            config,
-            observer,
-        )
+        run_phase_one(&mut self.rig(), config, observer)
     }
 }
 

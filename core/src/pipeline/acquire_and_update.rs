@@ -1,0 +1,89 @@
+//! Acquire and update (Algorithm 1): a burst of depth frames at the viewpoint reached,
+//! the frame into the grid (eq. (1)–(2)), the information gain over the voxels the view
+//! was predicted to see (eq. (5)), and the object's points of the frame — cropped to its
+//! region, the table and the known obstacles taken out.
+
+use super::step_timer::timed;
+use super::{ExploreConfig, ObjectRegion, PipelineError, StepTimes};
+use crate::cloud::{PlaneFit, PointCloud};
+use crate::kinematics::Joints;
+use crate::math::Pose;
+use crate::nbv::InformationGain;
+use crate::occupancy::OccupancyGrid;
+use crate::rig::{
+    DepthCamera, DepthFrame, Rig, RigError, average_frames, depth_frame_to_cloud, sensor_pose,
+};
+use nalgebra::Point3;
+
+/// What one view added.
+#[derive(Debug, Clone)]
+pub(super) struct Observation {
+    /// The reported joints at acquisition.
+    pub joints: Joints,
+    /// The reported sensor pose at acquisition.
+    pub sensor_pose: Pose,
+    /// Points in the whole frame.
+    pub frame_points: usize,
+    /// The object's points of the frame.
+    pub cloud: PointCloud,
+    /// Eq. (5) over the predicted voxels.
+    pub gain: InformationGain,
+}
+
+/// Acquires at the arm's pose and updates `grid`; `predicted` are the voxels the view was
+/// chosen for (the gain's domain), `region` and `table` what the object's points are cut
+/// to.
+pub(super) fn acquire_and_update(
+    rig: &mut Rig<'_>,
+    config: &ExploreConfig,
+    grid: &mut OccupancyGrid,
+    predicted: &[usize],
+    region: &ObjectRegion,
+    table: Option<&PlaneFit>,
+    times: &mut StepTimes,
+) -> Result<Observation, PipelineError> {
+    let (frame, joints, pose) = timed(&mut times.acquisition, || -> Result<_, PipelineError> {
+        let frame = capture_burst(rig.camera, config.frames_per_view)?;
+        let joints = rig.arm.joints()?;
+        let pose = sensor_pose(&rig.robot, &rig.base, &joints, &rig.camera.spec().frame)?;
+        let cloud = depth_frame_to_cloud(&frame, rig.camera.spec(), &pose)?;
+        Ok((cloud, joints, pose))
+    })?;
+    let gain = timed(&mut times.mapping, || -> Result<_, PipelineError> {
+        let before = grid.clone();
+        grid.insert_cloud(&frame, rig.camera.spec().range[1])?;
+        Ok(InformationGain::between(&before, grid, predicted)?)
+    })?;
+    let mut cloud = region.crop(&frame);
+    if let (Some(filter), Some(plane)) = (&config.table_filter, table) {
+        cloud = filter.remove(plane, &cloud);
+    }
+    // The known obstacles are no object: their surfaces, wherever this view's pose error
+    // may have put them, leave the view.
+    let known = config
+        .phase_one
+        .with_pose_error(
+            &config.uncertainty.camera_pose,
+            &Point3::from(pose.translation.vector),
+        )
+        .exclude;
+    let cloud = cloud.retain_indices(|i| !known.iter().any(|b| b.contains(&cloud.points[i])));
+    Ok(Observation {
+        joints,
+        sensor_pose: pose,
+        frame_points: frame.len(),
+        cloud,
+        gain,
+    })
+}
+
+/// `n` frames (at least one) at the camera's current pose, averaged.
+pub(super) fn capture_burst(
+    camera: &mut dyn DepthCamera,
+    n: usize,
+) -> Result<DepthFrame, RigError> {
+    let frames = (0..n.max(1))
+        .map(|_| camera.capture())
+        .collect::<Result<Vec<_>, _>>()?;
+    average_frames(&frames)
+}

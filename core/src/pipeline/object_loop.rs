@@ -1,0 +1,197 @@
+//! The object loop of Algorithm 1 for one object: candidates around what is seen of it,
+//! each tried in order (plan, execute — the next one on failure), the first reached
+//! acquired and the grid updated, until the stop rule, the view cap, no reachable
+//! viewpoint (after one retreat) or a first view showing no object ends it.
+
+use super::acquire_and_update::acquire_and_update;
+use super::candidates::{ViewCandidates, view_candidates, viewing_centre};
+use super::episode::Episode;
+use super::plan_and_execute::{plan_clearing_start, retrace};
+use super::step_timer::timed;
+use super::{
+    AcquiredView, ExploreEvent, ExploreObserver, ObjectExploration, ObjectRegion, ObjectStop,
+    PipelineError, ViewFailure,
+};
+use crate::cloud::PlaneFit;
+use crate::math::Pose;
+use crate::nbv::{InformationGain, NextBestView, StopReason, VisitedViews};
+use crate::occupancy::{OccupancyGrid, ReducedMap};
+use crate::rig::RigError;
+
+/// Explores `object` (its cluster in `region`, standing on `table`) until a stop; the
+/// views go into `object`, the collisions into the episode.
+pub(super) fn explore_object(
+    ep: &mut Episode<'_, '_>,
+    nbv: &NextBestView,
+    grid: &mut OccupancyGrid,
+    region: &ObjectRegion,
+    table: Option<&PlaneFit>,
+    object: &mut ObjectExploration,
+) -> Result<(), PipelineError> {
+    let config = ep.config;
+    let j = object.index;
+    let mut visited = VisitedViews::new(config.visited.0, config.visited.1)?;
+    let mut latest_gain: Option<InformationGain> = None;
+    let mut failures_since_view = 0;
+    let mut attempt: u64 = 0;
+    let mut retreated = false;
+    loop {
+        if object.views.len() >= config.max_views_per_object {
+            object.stop = ObjectStop::MaxViews;
+            return Ok(());
+        }
+        let reduced = timed(&mut object.times.mapping, || ReducedMap::from_grid(grid));
+        let ViewCandidates {
+            mut planner,
+            mut list,
+        } = timed(&mut object.times.nbv, || -> Result<_, PipelineError> {
+            let centre = viewing_centre(&object.cluster, &object.views, region)
+                .ok_or_else(|| PipelineError::Config(format!("object {j} has no point")))?;
+            view_candidates(&ep.rig.robot, config, nbv, &reduced, &centre, &visited)
+        })?;
+        object.candidates_evaluated += list.candidates.len();
+        ep.observer.event(&ExploreEvent::Candidates {
+            object: j,
+            candidates: list.candidates.len(),
+        });
+        if let Some(reason) = config
+            .stop
+            .check(latest_gain.as_ref(), list.candidates.len())
+        {
+            object.stop = ObjectStop::Rule(reason);
+            return Ok(());
+        }
+        let mut taken = false;
+        while let Some(candidate) = list.pop_first() {
+            attempt += 1;
+            let seed = config.seed ^ ((j as u64) << 32) ^ attempt;
+            let start = ep.rig.arm.joints()?;
+            let goals: Vec<_> = candidate
+                .viewpoint
+                .solutions
+                .iter()
+                .map(|s| s.joints)
+                .collect();
+            let planned = timed(&mut object.times.planning, || {
+                plan_clearing_start(&mut planner, &start, &goals, seed)
+            });
+            let planned = match planned {
+                Ok(p) => p,
+                Err(e) => {
+                    fail(
+                        object,
+                        &candidate.viewpoint.pose,
+                        e.to_string(),
+                        false,
+                        ep.observer,
+                    );
+                    failures_since_view += 1;
+                    continue;
+                }
+            };
+            let moved = timed(&mut object.times.motion, || {
+                ep.rig.arm.execute(&planned.path)
+            });
+            if let Err(e) = moved {
+                let collision = matches!(e, RigError::Collision { .. });
+                ep.collisions += usize::from(collision);
+                fail(
+                    object,
+                    &candidate.viewpoint.pose,
+                    e.to_string(),
+                    collision,
+                    ep.observer,
+                );
+                failures_since_view += 1;
+                if !collision {
+                    // Anything else than a reported collision is a rig failure.
+                    return Err(e.into());
+                }
+                continue;
+            }
+            ep.trail.push(planned.path);
+            let seen = acquire_and_update(
+                ep.rig,
+                config,
+                grid,
+                &candidate.visible.all(),
+                region,
+                table,
+                &mut object.times,
+            )?;
+            visited.push(candidate.viewpoint.pose);
+            let first_points = object.views.is_empty().then_some(seen.cloud.len());
+            let gain = seen.gain;
+            object.views.push(AcquiredView {
+                viewpoint: candidate.viewpoint.pose,
+                score: candidate.score,
+                predicted: (
+                    candidate.visible.unknown.len(),
+                    candidate.visible.occupied.len(),
+                ),
+                joints: seen.joints,
+                sensor_pose: seen.sensor_pose,
+                frame_points: seen.frame_points,
+                cloud: seen.cloud,
+                gain,
+                plan: planned.stats,
+                failures_before: failures_since_view,
+            });
+            failures_since_view = 0;
+            ep.observer.event(&ExploreEvent::ViewTaken {
+                object: j,
+                views: object.views.len(),
+                gain: config.stop.measure.value(&gain),
+            });
+            latest_gain = Some(gain);
+            taken = true;
+            retreated = false;
+            if let Some(points) = first_points
+                && points < config.phase_one.segmentation.min_cluster_points
+            {
+                object.stop = ObjectStop::NotAnObject { points };
+                return Ok(());
+            }
+            break;
+        }
+        if !taken {
+            // No viewpoint was reachable from where the arm is (its last view can leave
+            // it boxed in by what that view added to the map): once, it goes back the way
+            // it came since phase 1 — space it has just moved through — and samples again.
+            if !retreated && !ep.trail.is_empty() {
+                retreated = true;
+                let back = retrace(&ep.trail, ep.rig.arm.joints()?);
+                match timed(&mut object.times.motion, || ep.rig.arm.execute(&back)) {
+                    Ok(_) => {
+                        ep.trail.clear();
+                        object.retreats += 1;
+                        continue;
+                    }
+                    Err(RigError::Collision { .. }) => ep.collisions += 1,
+                    Err(e) => return Err(e.into()),
+                }
+            }
+            object.stop = ObjectStop::Rule(StopReason::NoViewpoint);
+            return Ok(());
+        }
+    }
+}
+
+/// Records a viewpoint that could not be reached.
+fn fail(
+    object: &mut ObjectExploration,
+    viewpoint: &Pose,
+    reason: String,
+    collision: bool,
+    observer: &mut dyn ExploreObserver,
+) {
+    observer.event(&ExploreEvent::ViewFailed {
+        object: object.index,
+        reason: reason.clone(),
+    });
+    object.failures.push(ViewFailure {
+        viewpoint: *viewpoint,
+        reason,
+        collision,
+    });
+}
