@@ -420,6 +420,18 @@ fn check_mesh(m: &TriMesh) {
     assert!(m.triangles.iter().flatten().all(|&i| (i as usize) < n));
 }
 
+/// A parsed STL mesh must also write back to bytes that re-read to the same mesh.
+fn check_stl(m: &TriMesh) {
+    check_mesh(m);
+    let bytes = stl_to_bytes(m);
+    let again = stl_from_bytes(&bytes, Path::new("again.stl")).expect("a written mesh reads");
+    assert_eq!(again.triangles.len(), m.triangles.len());
+    assert!(
+        stl_to_bytes(&again) == bytes,
+        "write → read → write changed the file"
+    );
+}
+
 #[test]
 fn mesh_errors_name_the_file_and_problem() {
     // A binary STL claiming 2^32 - 1 triangles and holding one.
@@ -463,6 +475,9 @@ vertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
         e.to_string().starts_with(&path.display().to_string()),
         "{e}"
     );
+    for stl in valid_stl() {
+        check_stl(&stl_from_bytes(&stl, Path::new("ok.stl")).unwrap());
+    }
     let m = obj_from_bytes(OBJ.as_bytes(), Path::new("ok.obj")).unwrap();
     check_mesh(&m);
     assert_eq!(m.triangles.len(), 6);
@@ -531,7 +546,7 @@ proptest! {
     fn arbitrary_bytes_never_panic(bytes in proptest::collection::vec(any::<u8>(), 0..512)) {
         read_cloud_bytes(&bytes);
         if let Ok(m) = stl_from_bytes(&bytes, Path::new("f.stl")) {
-            check_mesh(&m);
+            check_stl(&m);
         }
         if let Ok(m) = obj_from_bytes(&bytes, Path::new("f.obj")) {
             check_mesh(&m);
@@ -551,7 +566,7 @@ proptest! {
         let files = valid_stl();
         let stl = damaged(files[which.index(files.len())].clone(), &edits);
         if let Ok(m) = stl_from_bytes(&stl, Path::new("f.stl")) {
-            check_mesh(&m);
+            check_stl(&m);
         }
         let obj = damaged(OBJ.as_bytes().to_vec(), &edits);
         match obj_from_bytes(&obj, Path::new("f.obj")) {
