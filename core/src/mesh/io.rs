@@ -135,23 +135,51 @@ pub fn stl_from_bytes(bytes: &[u8], path: &Path) -> Result<TriMesh, MeshIoError>
     )
 }
 
-/// Reads a Wavefront OBJ file (all objects merged; polygons are triangulated).
+/// Reads a Wavefront OBJ file (all objects merged; polygons are triangulated). Material
+/// libraries (`mtllib`) are looked up next to the file; materials are not used.
 pub fn read_obj(path: &Path) -> Result<TriMesh, MeshIoError> {
-    if let Err(source) = std::fs::metadata(path) {
-        return Err(MeshIoError::Io {
-            path: path.to_path_buf(),
-            source,
-        });
-    }
+    let bytes = std::fs::read(path).map_err(|source| MeshIoError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    obj_from_reader(&mut Cursor::new(bytes), path, |mtl| {
+        tobj::load_mtl(dir.join(mtl))
+    })
+}
+
+/// Parses OBJ data held in memory; `path` only names the data in errors. Material
+/// libraries are not loaded (they do not change the mesh).
+///
+/// ```
+/// use nbv_core::mesh::io::obj_from_bytes;
+/// let tet = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+/// let m = obj_from_bytes(tet, "tet.obj".as_ref()).unwrap();
+/// assert!(m.is_watertight());
+/// let err = obj_from_bytes(b"f 1 2 3\n", "bad.obj".as_ref()).unwrap_err();
+/// assert!(err.to_string().starts_with("bad.obj: "), "{err}");
+/// ```
+pub fn obj_from_bytes(bytes: &[u8], path: &Path) -> Result<TriMesh, MeshIoError> {
+    obj_from_reader(&mut Cursor::new(bytes), path, |_| {
+        Err(tobj::LoadError::OpenFileFailed)
+    })
+}
+
+fn obj_from_reader(
+    reader: &mut impl std::io::BufRead,
+    path: &Path,
+    materials: impl Fn(&Path) -> tobj::MTLLoadResult,
+) -> Result<TriMesh, MeshIoError> {
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: false,
         ..Default::default()
     };
-    let (models, _materials) = tobj::load_obj(path, &options).map_err(|e| MeshIoError::Obj {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    })?;
+    let (models, _materials) =
+        tobj::load_obj_buf(reader, &options, materials).map_err(|e| MeshIoError::Obj {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
     let mut mesh = TriMesh::default();
     for model in &models {
         let m = &model.mesh;
