@@ -8,7 +8,6 @@
 //! more, which the process could not allocate (an attempt would abort the test binary).
 
 use std::path::Path;
-use std::time::{Duration, Instant};
 
 use nalgebra::Point3;
 use nbv_core::cloud::PointCloud;
@@ -265,25 +264,12 @@ fn read_cloud_bytes(bytes: &[u8]) {
     }
 }
 
-/// Runs `f` and checks it took less than a second (a reader that trusted a lying header
-/// would spend far longer, or abort on allocation).
-fn fast<T>(f: impl FnOnce() -> T) -> T {
-    let t = Instant::now();
-    let out = f();
-    assert!(
-        t.elapsed() < Duration::from_secs(1),
-        "took {:?}",
-        t.elapsed()
-    );
-    out
-}
-
 #[test]
-fn cloud_headers_that_lie_about_their_size_fail_fast() {
+fn cloud_headers_that_lie_about_their_size_are_refused() {
     let xyz = "property float x\nproperty float y\nproperty float z\n";
     // A small ASCII PLY declaring a million vertices.
     let ply = format!("ply\nformat ascii 1.0\nelement vertex 1000000\n{xyz}end_header\n1 2 3\n");
-    let e = fast(|| read_ply(ply.as_bytes(), &ReadOptions::default())).unwrap_err();
+    let e = read_ply(ply.as_bytes(), &ReadOptions::default()).unwrap_err();
     assert!(
         matches!(
             e.kind,
@@ -301,7 +287,7 @@ fn cloud_headers_that_lie_about_their_size_fail_fast() {
         let ply = format!(
             "ply\nformat {format} 1.0\nelement vertex 1099511627776\n{xyz}end_header\n1 2 3\n"
         );
-        let e = fast(|| read_ply(ply.as_bytes(), &ReadOptions::default())).unwrap_err();
+        let e = read_ply(ply.as_bytes(), &ReadOptions::default()).unwrap_err();
         assert!(
             matches!(e.kind, K::MissingRecords { .. } | K::Truncated { .. }),
             "{e}"
@@ -314,7 +300,7 @@ fn cloud_headers_that_lie_about_their_size_fail_fast() {
     )
     .into_bytes();
     ply.extend_from_slice(&[0xff; 4]);
-    let e = fast(|| read_ply(&ply[..], &ReadOptions::default())).unwrap_err();
+    let e = read_ply(&ply[..], &ReadOptions::default()).unwrap_err();
     assert!(matches!(e.kind, K::Truncated { .. }), "{e}");
     // PCD: 2^40 points in every encoding, and WIDTH × HEIGHT overflowing.
     for data in ["ascii", "binary", "binary_compressed"] {
@@ -322,7 +308,7 @@ fn cloud_headers_that_lie_about_their_size_fail_fast() {
             "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1099511627776\n\
              HEIGHT 1\nPOINTS 1099511627776\nDATA {data}\n1 2 3\n"
         );
-        let e = fast(|| read_pcd(pcd.as_bytes(), &ReadOptions::default())).unwrap_err();
+        let e = read_pcd(pcd.as_bytes(), &ReadOptions::default()).unwrap_err();
         assert!(
             matches!(
                 e.kind,
@@ -333,7 +319,7 @@ fn cloud_headers_that_lie_about_their_size_fail_fast() {
     }
     let pcd = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 18446744073709551615\n\
                HEIGHT 2\nDATA binary\n";
-    let e = fast(|| read_pcd(pcd.as_bytes(), &ReadOptions::default())).unwrap_err();
+    let e = read_pcd(pcd.as_bytes(), &ReadOptions::default()).unwrap_err();
     assert!(e.to_string().contains("WIDTH"), "{e}");
 }
 
@@ -438,7 +424,7 @@ fn mesh_errors_name_the_file_and_problem() {
     let mut stl = stl_to_bytes(&TriMesh::cuboid([1.0; 3]));
     stl.truncate(84 + 50);
     stl[80..84].copy_from_slice(&u32::MAX.to_le_bytes());
-    let e = fast(|| stl_from_bytes(&stl, Path::new("lie.stl"))).unwrap_err();
+    let e = stl_from_bytes(&stl, Path::new("lie.stl")).unwrap_err();
     assert!(matches!(e, MeshIoError::Stl { .. }), "{e}");
     assert!(e.to_string().starts_with("lie.stl: malformed STL"), "{e}");
 

@@ -8,7 +8,6 @@
 mod common;
 
 use std::path::Path;
-use std::time::{Duration, Instant};
 
 use nbv_scenes::{Problem, Scene, SceneError};
 use proptest::prelude::*;
@@ -235,13 +234,8 @@ fn bad_values_name_the_key() {
 fn a_huge_grid_is_refused_before_anything_is_allocated() {
     // 1.2 × 1.4 × 0.6 m at 1 nm: about 10^24 voxels.
     let text = env1().replacen("resolution = 0.02", "resolution = 0.000000001", 1);
-    let t = Instant::now();
+    // (Were it allocated, the test binary would abort.)
     let e = load(&text).unwrap_err();
-    assert!(
-        t.elapsed() < Duration::from_secs(1),
-        "took {:?}",
-        t.elapsed()
-    );
     assert!(
         matches!(&e, SceneError::Invalid { key, problem, .. }
             if key == "workspace" && matches!(**problem, Problem::GridTooLarge(_))),
