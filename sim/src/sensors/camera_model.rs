@@ -109,38 +109,36 @@ impl CameraModel {
         let reach = self.reach();
         let origin = Point3::from(pose.translation.vector);
         let f = self.spec.focal();
-        let rows: Vec<Vec<Option<TruePixel>>> = (0..h)
-            .into_par_iter()
-            .map_init(
-                || world.ray_caster(),
-                |caster, v| {
-                    (0..w)
-                        .map(|u| {
-                            let ray = pixel_ray(&self.spec, f, u, v);
-                            let norm = ray.norm();
-                            let dir = pose.rotation * (ray / norm);
-                            let hit = caster.cast(&origin, &dir, reach, ignore_frame)?;
-                            let incidence = (-dir.dot(&hit.normal)).clamp(-1.0, 1.0).acos();
-                            Some(TruePixel {
-                                distance: hit.distance,
-                                sigma: self.sigma(hit.distance),
-                                dropout: self.dropout_probability(hit.distance, incidence),
-                                norm,
-                                truth: TruthHit {
-                                    label: hit.label,
-                                    point: hit.point,
-                                },
-                            })
-                        })
-                        .collect()
-                },
-            )
-            .collect();
+        let mut pixels: Vec<Option<TruePixel>> = vec![None; w * h];
+        pixels.par_chunks_mut(w.max(1)).enumerate().for_each_init(
+            || world.ray_caster(),
+            |caster, (v, row)| {
+                for (u, pixel) in row.iter_mut().enumerate() {
+                    let ray = pixel_ray(&self.spec, f, u, v);
+                    let norm = ray.norm();
+                    let dir = pose.rotation * (ray / norm);
+                    let Some(hit) = caster.cast(&origin, &dir, reach, ignore_frame) else {
+                        continue;
+                    };
+                    let incidence = (-dir.dot(&hit.normal)).clamp(-1.0, 1.0).acos();
+                    *pixel = Some(TruePixel {
+                        distance: hit.distance,
+                        sigma: self.sigma(hit.distance),
+                        dropout: self.dropout_probability(hit.distance, incidence),
+                        norm,
+                        truth: TruthHit {
+                            label: hit.label,
+                            point: hit.point,
+                        },
+                    });
+                }
+            },
+        );
         TrueFrame {
             pose: *pose,
             width: w,
             height: h,
-            pixels: rows.into_iter().flatten().collect(),
+            pixels,
         }
     }
 
@@ -150,38 +148,37 @@ impl CameraModel {
     pub fn draw(&self, truth: &TrueFrame, time: f64, id: AcquisitionId) -> DepthFrame {
         let (w, h) = (truth.width, truth.height);
         let [min, max] = self.spec.range;
-        let rows: Vec<Vec<(f32, Option<TruthHit>)>> = truth
-            .pixels
-            .par_chunks(w.max(1))
+        let mut depth = vec![f32::NAN; truth.pixels.len()];
+        let mut hits: Vec<Option<TruthHit>> = vec![None; truth.pixels.len()];
+        let row = w.max(1);
+        depth
+            .par_chunks_mut(row)
+            .zip(hits.par_chunks_mut(row))
+            .zip(truth.pixels.par_chunks(row))
             .enumerate()
-            .map(|(v, row)| {
+            .for_each(|(v, ((depth, hits), pixels))| {
                 let mut rng = seeds::rng(id.seed, Stream::CameraRow, id.index, v as u64);
-                row.iter()
-                    .map(|pixel| {
-                        let n: f64 = StandardNormal.sample(&mut rng);
-                        let keep: f64 = rng.random();
-                        let Some(p) = pixel else {
-                            return (f32::NAN, None);
-                        };
-                        if keep < p.dropout {
-                            return (f32::NAN, None);
-                        }
-                        let r = p.distance + p.sigma * n;
-                        if r < min || r > max {
-                            return (f32::NAN, None);
-                        }
-                        ((r / p.norm) as f32, Some(p.truth))
-                    })
-                    .collect()
-            })
-            .collect();
-        let (depth, truth) = rows.into_iter().flatten().unzip();
+                for ((d, t), pixel) in depth.iter_mut().zip(hits.iter_mut()).zip(pixels) {
+                    let n: f64 = StandardNormal.sample(&mut rng);
+                    let keep: f64 = rng.random();
+                    let Some(p) = pixel else { continue };
+                    if keep < p.dropout {
+                        continue;
+                    }
+                    let r = p.distance + p.sigma * n;
+                    if r < min || r > max {
+                        continue;
+                    }
+                    *d = (r / p.norm) as f32;
+                    *t = Some(p.truth);
+                }
+            });
         DepthFrame {
             time,
             width: w,
             height: h,
             depth,
-            truth: Some(truth),
+            truth: Some(hits),
         }
     }
 
