@@ -31,7 +31,7 @@
 use super::AcquisitionId;
 use crate::seeds::{self, Stream};
 use crate::world::TwinWorld;
-use nalgebra::{Point3, Vector3};
+use nalgebra::Vector3;
 use nbv_core::math::Pose;
 use nbv_core::rig::{DepthCameraSpec, DepthFrame, TruthHit};
 use nbv_scenes::schema::CameraNoise;
@@ -62,7 +62,10 @@ impl CameraModel {
 
     /// σ of the range noise at true range `d` (m).
     pub fn sigma(&self, d: f64) -> f64 {
-        self.noise.range_sigma_at_1m * d.powf(self.noise.range_sigma_exponent)
+        let k = self.noise.range_sigma_exponent;
+        // d¹ = d exactly: the common linear model without a `powf` per pixel.
+        let scale = if k == 1.0 { d } else { d.powf(k) };
+        self.noise.range_sigma_at_1m * scale
     }
 
     /// Probability that a return at true range `d` and incidence angle `incidence` (rad,
@@ -107,33 +110,27 @@ impl CameraModel {
     pub fn cast(&self, world: &TwinWorld, pose: &Pose, ignore_frame: Option<usize>) -> TrueFrame {
         let (w, h) = (self.spec.width, self.spec.height);
         let reach = self.reach();
-        let origin = Point3::from(pose.translation.vector);
         let f = self.spec.focal();
-        let mut pixels: Vec<Option<TruePixel>> = vec![None; w * h];
-        pixels.par_chunks_mut(w.max(1)).enumerate().for_each_init(
-            || world.ray_caster(),
-            |caster, (v, row)| {
-                for (u, pixel) in row.iter_mut().enumerate() {
-                    let ray = pixel_ray(&self.spec, f, u, v);
-                    let norm = ray.norm();
-                    let dir = pose.rotation * (ray / norm);
-                    let Some(hit) = caster.cast(&origin, &dir, reach, ignore_frame) else {
-                        continue;
-                    };
-                    let incidence = (-dir.dot(&hit.normal)).clamp(-1.0, 1.0).acos();
-                    *pixel = Some(TruePixel {
-                        distance: hit.distance,
-                        sigma: self.sigma(hit.distance),
-                        dropout: self.dropout_probability(hit.distance, incidence),
-                        norm,
-                        truth: TruthHit {
-                            label: hit.label,
-                            point: hit.point,
-                        },
-                    });
-                }
-            },
-        );
+        let rotation = *pose.rotation.to_rotation_matrix().matrix();
+        // Below the grazing ramp's start the incidence does not matter: no `acos` there.
+        let cos_start = self.noise.grazing_start_deg.to_radians().cos();
+        let pixels = world.cast_pinhole_map(pose, &self.spec, reach, ignore_frame, |u, v, hit| {
+            let ray = pixel_ray(&self.spec, f, u, v);
+            let norm = ray.norm();
+            let dir = rotation * (ray / norm);
+            let cos = (-dir.dot(&hit.normal)).clamp(-1.0, 1.0);
+            let incidence = if cos > cos_start { 0.0 } else { cos.acos() };
+            TruePixel {
+                distance: hit.distance,
+                sigma: self.sigma(hit.distance),
+                dropout: self.dropout_probability(hit.distance, incidence),
+                norm,
+                truth: TruthHit {
+                    label: hit.label,
+                    point: hit.point,
+                },
+            }
+        });
         TrueFrame {
             pose: *pose,
             width: w,
