@@ -39,6 +39,9 @@ use rayon::prelude::*;
 /// Rows per band of the depth buffer (the unit of parallel work).
 const BAND: usize = 8;
 
+/// Fewest items (pixels, vertices, triangles) per parallel task.
+const MIN_LEN: usize = 1024;
+
 /// Depth (m, along the optical axis) below which nothing is seen: the part of a collider
 /// closer to the camera plane than this is ignored.
 const NEAR: f64 = 1e-4;
@@ -232,43 +235,41 @@ impl TwinWorld {
 
         let origin = Point3::from(pose.translation.vector);
         let rotation = *pose.rotation.to_rotation_matrix().matrix();
-        let mut hits: Vec<Option<T>> = vec![None; w * h];
-        hits.par_chunks_mut(w)
-            .zip(best.par_chunks(w))
+        best.par_iter()
+            .with_min_len(MIN_LEN)
             .enumerate()
-            .for_each(|(v, (hits, best))| {
-                for (u, (hit, b)) in hits.iter_mut().zip(best).enumerate() {
-                    if b.prim == u32::MAX {
-                        continue;
-                    }
-                    let ray = Vector3::new(xs[u], ys[v], 1.0);
-                    let norm = ray.norm();
-                    let distance = b.z * norm;
-                    if distance > reach {
-                        continue;
-                    }
-                    let prim = &prims[b.prim as usize];
-                    let normal_cam = if b.tri == u32::MAX {
-                        self.intersect(prim, &ray, pose).map_or(-ray, |(_, n)| n)
-                    } else {
-                        let [e0, e1, e2] = tris[b.tri as usize].e;
-                        e0 + e1 + e2
-                    };
-                    let dir = rotation * (ray / norm);
-                    let mut normal = (rotation * normal_cam).try_normalize(0.0).unwrap_or(-dir);
-                    if normal.dot(&dir) > 0.0 {
-                        normal = -normal;
-                    }
-                    let found = RayHit {
-                        distance,
-                        point: origin + dir * distance,
-                        normal,
-                        label: prim.label,
-                    };
-                    *hit = Some(map(u, v, &found));
+            .map(|(i, b)| {
+                let (u, v) = (i % w, i / w);
+                if b.prim == u32::MAX {
+                    return None;
                 }
-            });
-        hits
+                let ray = Vector3::new(xs[u], ys[v], 1.0);
+                let norm = ray.norm();
+                let distance = b.z * norm;
+                if distance > reach {
+                    return None;
+                }
+                let prim = &prims[b.prim as usize];
+                let normal_cam = if b.tri == u32::MAX {
+                    self.intersect(prim, &ray, pose).map_or(-ray, |(_, n)| n)
+                } else {
+                    let [e0, e1, e2] = tris[b.tri as usize].e;
+                    e0 + e1 + e2
+                };
+                let dir = rotation * (ray / norm);
+                let mut normal = (rotation * normal_cam).try_normalize(0.0).unwrap_or(-dir);
+                if normal.dot(&dir) > 0.0 {
+                    normal = -normal;
+                }
+                let found = RayHit {
+                    distance,
+                    point: origin + dir * distance,
+                    normal,
+                    label: prim.label,
+                };
+                Some(map(u, v, &found))
+            })
+            .collect()
     }
 
     /// The colliders the camera can see, in a fixed order (static bodies, then the robot).
@@ -342,6 +343,7 @@ impl TwinWorld {
                     let vertices = mesh
                         .vertices()
                         .par_iter()
+                        .with_min_len(MIN_LEN)
                         .map(|v| to_camera(Vector3::new(v.x, v.y, v.z).cast::<f64>()))
                         .collect();
                     (vertices, mesh.indices())
@@ -365,6 +367,7 @@ impl TwinWorld {
             tris.par_extend(
                 indices
                     .par_iter()
+                    .with_min_len(MIN_LEN)
                     .filter_map(|[i, j, k]| {
                         let (a, b, c) = (
                             vertices[*i as usize],
@@ -379,8 +382,7 @@ impl TwinWorld {
                             rect,
                             prim: p as u32,
                         })
-                    })
-                    .collect::<Vec<_>>(),
+                    }),
             );
         }
         tris
