@@ -12,19 +12,20 @@
 //!   `r·(a×b)` of the pixel ray `r` agree in sign (an exact ray–triangle test, two-sided,
 //!   watertight on shared edges: a ray on an edge counts for both triangles) — and its depth
 //!   along the optical axis is `det(a, b, c) / (r·n)`;
-//! - cuboids are rasterised as their 12 triangles; cylinders are intersected analytically
-//!   per covered pixel (the quadric and the caps), any other shape through parry's own ray
-//!   cast;
+//! - cuboids are rasterised as their 12 triangles, less the faces turned away from the
+//!   camera; cylinders are intersected analytically per covered pixel (the quadric and
+//!   the caps); any other shape through parry's own ray cast;
 //! - a depth buffer keeps the nearest hit (the first in collider order on an exact tie).
 //!
-//! Everything is `f64` on the colliders' `f32` geometry, so a range differs from the
-//! query pipeline's `f32` cast by rounding only (≲ 1 µm at the Dinast's ranges; the
-//! equivalence test in `tests/frame_caster.rs` compares them), except on cylinders, where
-//! parry's GJK ray cast strays up to millimetres near the rims and this one is exact. As
-//! with a `solid` ray cast, a ray starting inside a cylinder hits it at range 0; a camera
-//! inside a cuboid or a closed mesh sees its inside; what lies less than 0.1 mm in front of the camera plane is not
-//! seen (the colliders are clipped there to bound the pixels they cover). Rows are processed in bands in parallel; the result does not
-//! depend on the thread count.
+//! Everything is `f64` on the colliders' `f32` geometry, so a range differs from the query
+//! pipeline's `f32` cast by rounding only (≲ 1 µm at the Dinast's ranges; the equivalence
+//! test in `tests/frame_caster.rs` compares them), except on cylinders, where parry's GJK
+//! ray cast strays up to millimetres near the rims and this one is exact. A ray starting
+//! inside a cylinder hits it at range 0 (as a `solid` ray cast does); a camera inside a
+//! closed mesh sees its inside, one inside a cuboid does not see the cuboid; what lies
+//! less than 0.1 mm in front of the camera plane is not seen (colliders are clipped there
+//! to bound the pixels they cover). Rows are processed in bands in parallel; the result
+//! does not depend on the thread count.
 
 use super::TwinWorld;
 use super::ray_caster::RayHit;
@@ -364,6 +365,9 @@ impl TwinWorld {
                 _ => continue,
             };
             let mesh_rect = prim.rect;
+            // A box's faces turned away from the camera lie behind its other faces: culled.
+            let center =
+                matches!(prim.kind, Kind::Cuboid { .. }).then(|| to_camera(Vector3::zeros()));
             tris.par_extend(
                 indices
                     .par_iter()
@@ -374,10 +378,21 @@ impl TwinWorld {
                             vertices[*j as usize],
                             vertices[*k as usize],
                         );
-                        let rect = view.triangle_rect(&a, &b, &c, mesh_rect)?;
                         let e = [b.cross(&c), c.cross(&a), a.cross(&b)];
+                        let det = a.dot(&e[0]);
+                        if let Some(center) = center {
+                            // n = e0 + e1 + e2 = (b − a)×(c − a), det = n·a: the camera
+                            // (the origin) is on the outer side iff n·a has the sign
+                            // opposite to n·(centroid − centre).
+                            let n = e[0] + e[1] + e[2];
+                            let outward = n.dot(&((a + b + c) / 3.0 - center));
+                            if outward * det >= 0.0 {
+                                return None;
+                            }
+                        }
+                        let rect = view.triangle_rect(&a, &b, &c, mesh_rect)?;
                         Some(Tri {
-                            det: a.dot(&e[0]),
+                            det,
                             e,
                             rect,
                             prim: p as u32,
