@@ -31,7 +31,6 @@
 use super::AcquisitionId;
 use crate::seeds::{self, Stream};
 use crate::world::TwinWorld;
-use nalgebra::Vector3;
 use nbv_core::math::Pose;
 use nbv_core::rig::{DepthCameraSpec, DepthFrame, TruthHit};
 use nbv_scenes::schema::CameraNoise;
@@ -110,27 +109,28 @@ impl CameraModel {
     pub fn cast(&self, world: &TwinWorld, pose: &Pose, ignore_frame: Option<usize>) -> TrueFrame {
         let (w, h) = (self.spec.width, self.spec.height);
         let reach = self.reach();
-        let f = self.spec.focal();
-        let rotation = *pose.rotation.to_rotation_matrix().matrix();
         // Below the grazing ramp's start the incidence does not matter: no `acos` there.
         let cos_start = self.noise.grazing_start_deg.to_radians().cos();
-        let pixels = world.cast_pinhole_map(pose, &self.spec, reach, ignore_frame, |u, v, hit| {
-            let ray = pixel_ray(&self.spec, f, u, v);
-            let norm = ray.norm();
-            let dir = rotation * (ray / norm);
-            let cos = (-dir.dot(&hit.normal)).clamp(-1.0, 1.0);
-            let incidence = if cos > cos_start { 0.0 } else { cos.acos() };
-            TruePixel {
-                distance: hit.distance,
-                sigma: self.sigma(hit.distance),
-                dropout: self.dropout_probability(hit.distance, incidence),
-                norm,
-                truth: TruthHit {
-                    label: hit.label,
-                    point: hit.point,
-                },
-            }
-        });
+        let pixels = world.cast_pinhole_map(
+            pose,
+            &self.spec,
+            reach,
+            ignore_frame,
+            |_, _, hit, norm, dir| {
+                let cos = (-dir.dot(&hit.normal)).clamp(-1.0, 1.0);
+                let incidence = if cos > cos_start { 0.0 } else { cos.acos() };
+                TruePixel {
+                    distance: hit.distance,
+                    sigma: self.sigma(hit.distance),
+                    dropout: self.dropout_probability(hit.distance, incidence),
+                    norm,
+                    truth: TruthHit {
+                        label: hit.label,
+                        point: hit.point,
+                    },
+                }
+            },
+        );
         TrueFrame {
             pose: *pose,
             width: w,
@@ -185,15 +185,6 @@ impl CameraModel {
         let max = self.spec.range[1];
         max + 6.0 * self.sigma(max)
     }
-}
-
-/// [`DepthCameraSpec::pixel_ray`] with the focal length computed once.
-fn pixel_ray(spec: &DepthCameraSpec, f: f64, u: usize, v: usize) -> Vector3<f64> {
-    Vector3::new(
-        (u as f64 + 0.5 - 0.5 * spec.width as f64) / f,
-        (v as f64 + 0.5 - 0.5 * spec.height as f64) / f,
-        1.0,
-    )
 }
 
 /// The noise-free return of one pixel: what the noise model needs to draw a frame.

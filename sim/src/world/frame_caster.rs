@@ -134,18 +134,20 @@ impl TwinWorld {
         reach: f64,
         ignore_frame: Option<usize>,
     ) -> Vec<Option<RayHit>> {
-        self.cast_pinhole_map(pose, spec, reach, ignore_frame, |_, _, hit| *hit)
+        self.cast_pinhole_map(pose, spec, reach, ignore_frame, |_, _, hit, _, _| *hit)
     }
 
-    /// [`Self::cast_pinhole`] with `map(u, v, hit)` applied to every hit as it is found (in
-    /// parallel): one array of what the caller keeps instead of two.
+    /// [`Self::cast_pinhole`] with `map(u, v, hit, norm, dir)` applied to every hit as it is
+    /// found (in parallel; `norm` is the length of the pixel's unnormalised ray
+    /// [`DepthCameraSpec::pixel_ray`], `dir` the ray's unit world direction): one array of
+    /// what the caller keeps instead of two.
     pub fn cast_pinhole_map<T: Clone + Send>(
         &self,
         pose: &Pose,
         spec: &DepthCameraSpec,
         reach: f64,
         ignore_frame: Option<usize>,
-        map: impl Fn(usize, usize, &RayHit) -> T + Sync,
+        map: impl Fn(usize, usize, &RayHit, f64, &Vector3<f64>) -> T + Sync,
     ) -> Vec<Option<T>> {
         let (w, h) = (spec.width, spec.height);
         if w == 0 || h == 0 {
@@ -268,7 +270,7 @@ impl TwinWorld {
                     normal,
                     label: prim.label,
                 };
-                Some(map(u, v, &found))
+                Some(map(u, v, &found, norm, &dir))
             })
             .collect()
     }
