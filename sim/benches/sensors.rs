@@ -1,4 +1,5 @@
 //! Simulated sensors on paper-env1: one Dinast frame (320×240 rays) 0.3 m above the jug,
+//! cast (the first frame of a burst) and drawn from the cast (the burst's other frames),
 //! one LMS400 line, and the whole phase-1 sweep through the simulated rig (arm motion with
 //! collision checks, 237 lines of 281 rays, the cloud). Throughput is in rays; the real
 //! devices cast 190 × 281 = 53,390 rays/s (LMS400) and 76,800 per frame (Dinast).
@@ -36,8 +37,18 @@ fn sensors(c: &mut Criterion) {
     group.throughput(Throughput::Elements(
         (camera.spec.width * camera.spec.height) as u64,
     ));
+    // Cold: the rays cast, then the noise drawn (the first frame of a burst).
     group.bench_function("dinast_frame_320x240", |b| {
         b.iter(|| black_box(camera.capture(&world, &view, None, 0.0, id)))
+    });
+    // Cached: the noise of one more frame of the burst drawn from the standstill's cast.
+    let truth = camera.cast(&world, &view, None);
+    let mut index = 0;
+    group.bench_function("dinast_frame_cached", |b| {
+        b.iter(|| {
+            index += 1;
+            black_box(camera.draw(&truth, 0.0, AcquisitionId { seed: 1, index }))
+        })
     });
 
     let laser = LaserModel::from_scene(&scene.sensors.mid_range);

@@ -16,7 +16,8 @@
 //!   `t_start + k / line_rate`, and every line due while the clock advances (arm motion,
 //!   camera frames) is cast from the true sensor pose at its time.
 //! - The depth camera captures at the current true pose; the clock advances one frame
-//!   period.
+//!   period. Its rays are cast once per standstill of the arm: the frames of a burst draw
+//!   their own noise and dropouts from that cast (see [`crate::sensors::CameraModel`]).
 //!
 //! ```no_run
 //! use nbv_core::rig::{Arm, DepthCamera, JointPath, LineScanner};

@@ -5,7 +5,7 @@
 use super::joint_reach::JointReach;
 use super::pose_errors::PoseErrors;
 use super::timed_path::TimedPath;
-use crate::sensors::{AcquisitionId, CameraModel, LaserModel};
+use crate::sensors::{AcquisitionId, CameraModel, LaserModel, TrueFrame};
 use crate::world::TwinWorld;
 use nbv_core::kinematics::Joints;
 use nbv_core::math::Pose;
@@ -98,6 +98,9 @@ pub struct TwinState {
     /// The view error of the depth frames taken since the arm last moved: a burst at one
     /// standstill shares it (the arm, not the frame, carries the pose error).
     stand_error: Option<Pose>,
+    /// The noise-free depth frame cast at this standstill (same lifetime as `stand_error`):
+    /// the frames of a burst draw their noise from it instead of casting again.
+    stand_frame: Option<TrueFrame>,
 }
 
 /// Why a rig could not be assembled.
@@ -137,6 +140,7 @@ impl TwinState {
             stream: None,
             log: Vec::new(),
             stand_error: None,
+            stand_frame: None,
         })
     }
 
@@ -245,7 +249,7 @@ impl TwinState {
     /// Executes a path (see [`super::SimArm`]).
     pub(crate) fn execute(&mut self, path: &JointPath) -> Result<Motion, RigError> {
         let timed = TimedPath::new(path, self.world.robot().limits(), self.time)?;
-        self.stand_error = None;
+        self.end_standstill();
         let gap = (timed.waypoints[0] - self.q).amax();
         if gap > START_TOLERANCE {
             return Err(RigError::InvalidPath(format!(
@@ -294,7 +298,7 @@ impl TwinState {
     /// Places the arm at `q` without moving through the space between (refused, arm
     /// unmoved, if `q` is outside the limits or in contact).
     pub(crate) fn teleport(&mut self, q: Joints) -> Result<(), RigError> {
-        self.stand_error = None;
+        self.end_standstill();
         let path = JointPath {
             waypoints: vec![q],
             speed_fraction: 1.0,
@@ -355,8 +359,21 @@ impl TwinState {
         }
     }
 
+    /// Forgets what was shared by the frames of the current standstill (view error, cast
+    /// frame): called before every motion or teleport, successful or not.
+    fn end_standstill(&mut self) {
+        self.stand_error = None;
+        self.stand_frame = None;
+    }
+
+    /// The noise-free frame cast since the arm last moved, if any (for tests and tools).
+    pub fn standstill_frame(&self) -> Option<&TrueFrame> {
+        self.stand_frame.as_ref()
+    }
+
     /// Captures a depth frame at the current true pose; the clock advances one frame
-    /// period.
+    /// period. The rays are cast at the first frame of a standstill only; later frames
+    /// draw their noise from that cast (see [`CameraModel`]).
     pub(crate) fn capture(&mut self) -> DepthFrame {
         let id = self.next_acquisition();
         let errors = &self.config.errors;
@@ -367,10 +384,14 @@ impl TwinState {
         let pose = self.true_sensor_pose(false, &q, &view_error);
         self.world
             .set_configuration(q + self.config.errors.joint_offset);
-        let frame =
-            self.config
-                .camera
-                .capture(&self.world, &pose, Some(self.camera_frame), self.time, id);
+        let camera = &self.config.camera;
+        let truth = match self.stand_frame.take() {
+            // The arm has not moved: same pose, same world. (The pose check is a guard.)
+            Some(cast) if cast.pose == pose => cast,
+            _ => camera.cast(&self.world, &pose, Some(self.camera_frame)),
+        };
+        let frame = camera.draw(&truth, self.time, id);
+        self.stand_frame = Some(truth);
         self.log.push(AcquisitionTruth {
             sensor: SensorKind::DepthCamera,
             id,

@@ -15,11 +15,22 @@
 //! Row `v` of acquisition `a` draws from a ChaCha8 stream seeded by `(scene seed, a, v)`:
 //! two draws per pixel (noise, then dropout), in column order, hit or not. Rows are cast in
 //! parallel; the result does not depend on the thread count.
+//!
+//! A capture is two steps: [`CameraModel::cast`] casts the rays and keeps, per pixel, the
+//! noise-free return (true range `d`, `σ(d)`, the dropout probability at `d` and `a`, the
+//! truth), a [`TrueFrame`]; [`CameraModel::draw`] draws one acquisition's noise and
+//! dropouts from it. The rig ([`crate::rig`]) casts once per standstill of the arm and
+//! draws every frame of a burst from that one [`TrueFrame`]:
+//! - **shared per standstill** (until the arm next moves or teleports): the true sensor
+//!   pose (with the view error, as before) and so every pixel's `d`, `a`, `σ(d)`, dropout
+//!   probability and truth;
+//! - **drawn per frame**: each pixel's `n` and its dropout draw, from the frame's own
+//!   acquisition streams as above — independent across frames, and exactly the values an
+//!   uncached capture draws, so a cached frame is bit-identical to casting it anew.
 
 use super::AcquisitionId;
 use crate::seeds::{self, Stream};
 use crate::world::TwinWorld;
-use nalgebra::Point3;
 use nbv_core::math::Pose;
 use nbv_core::rig::{DepthCameraSpec, DepthFrame, TruthHit};
 use nbv_scenes::schema::CameraNoise;
@@ -50,7 +61,10 @@ impl CameraModel {
 
     /// σ of the range noise at true range `d` (m).
     pub fn sigma(&self, d: f64) -> f64 {
-        self.noise.range_sigma_at_1m * d.powf(self.noise.range_sigma_exponent)
+        let k = self.noise.range_sigma_exponent;
+        // d¹ = d exactly: the common linear model without a `powf` per pixel.
+        let scale = if k == 1.0 { d } else { d.powf(k) };
+        self.noise.range_sigma_at_1m * scale
     }
 
     /// Probability that a return at true range `d` and incidence angle `incidence` (rad,
@@ -77,7 +91,7 @@ impl CameraModel {
 
     /// Captures acquisition `id` from the true sensor pose `pose` (world frame) at
     /// rig time `time`, ignoring the colliders of robot frame `ignore_frame` (the camera's
-    /// own housing).
+    /// own housing): [`Self::cast`] then [`Self::draw`].
     pub fn capture(
         &self,
         world: &TwinWorld,
@@ -86,51 +100,120 @@ impl CameraModel {
         time: f64,
         id: AcquisitionId,
     ) -> DepthFrame {
+        self.draw(&self.cast(world, pose, ignore_frame), time, id)
+    }
+
+    /// The noise-free part of a frame from the true sensor pose `pose`: every pixel's ray
+    /// cast through `world` (ignoring the colliders of robot frame `ignore_frame`), with
+    /// what the noise model needs per pixel. Rows are cast in parallel.
+    pub fn cast(&self, world: &TwinWorld, pose: &Pose, ignore_frame: Option<usize>) -> TrueFrame {
         let (w, h) = (self.spec.width, self.spec.height);
+        let reach = self.reach();
+        // Below the grazing ramp's start the incidence does not matter: no `acos` there.
+        let cos_start = self.noise.grazing_start_deg.to_radians().cos();
+        let pixels = world.cast_pinhole_map(
+            pose,
+            &self.spec,
+            reach,
+            ignore_frame,
+            |_, _, hit, norm, dir| {
+                let cos = (-dir.dot(&hit.normal)).clamp(-1.0, 1.0);
+                let incidence = if cos > cos_start { 0.0 } else { cos.acos() };
+                TruePixel {
+                    distance: hit.distance,
+                    sigma: self.sigma(hit.distance),
+                    dropout: self.dropout_probability(hit.distance, incidence),
+                    norm,
+                    truth: TruthHit {
+                        label: hit.label,
+                        point: hit.point,
+                    },
+                }
+            },
+        );
+        TrueFrame {
+            pose: *pose,
+            width: w,
+            height: h,
+            pixels,
+        }
+    }
+
+    /// Acquisition `id` at rig time `time` from the noise-free frame `truth`: each pixel's
+    /// range noise and dropout drawn from the acquisition's own streams (see the module
+    /// doc). Rows are drawn in parallel; the result does not depend on the thread count.
+    pub fn draw(&self, truth: &TrueFrame, time: f64, id: AcquisitionId) -> DepthFrame {
+        let (w, h) = (truth.width, truth.height);
         let [min, max] = self.spec.range;
-        let reach = max + 6.0 * self.sigma(max);
-        let origin = Point3::from(pose.translation.vector);
-        let rows: Vec<Vec<(f32, Option<TruthHit>)>> = (0..h)
-            .into_par_iter()
-            .map_init(
-                || world.ray_caster(),
-                |caster, v| {
-                    let mut rng = seeds::rng(id.seed, Stream::CameraRow, id.index, v as u64);
-                    (0..w)
-                        .map(|u| {
-                            let n: f64 = StandardNormal.sample(&mut rng);
-                            let keep: f64 = rng.random();
-                            let ray = self.spec.pixel_ray(u, v);
-                            let norm = ray.norm();
-                            let dir = pose.rotation * (ray / norm);
-                            let Some(hit) = caster.cast(&origin, &dir, reach, ignore_frame) else {
-                                return (f32::NAN, None);
-                            };
-                            let incidence = (-dir.dot(&hit.normal)).clamp(-1.0, 1.0).acos();
-                            if keep < self.dropout_probability(hit.distance, incidence) {
-                                return (f32::NAN, None);
-                            }
-                            let r = hit.distance + self.sigma(hit.distance) * n;
-                            if r < min || r > max {
-                                return (f32::NAN, None);
-                            }
-                            let truth = TruthHit {
-                                label: hit.label,
-                                point: hit.point,
-                            };
-                            ((r / norm) as f32, Some(truth))
-                        })
-                        .collect()
-                },
-            )
-            .collect();
-        let (depth, truth) = rows.into_iter().flatten().unzip();
+        let mut depth = vec![f32::NAN; truth.pixels.len()];
+        let mut hits: Vec<Option<TruthHit>> = vec![None; truth.pixels.len()];
+        let row = w.max(1);
+        depth
+            .par_chunks_mut(row)
+            .zip(hits.par_chunks_mut(row))
+            .zip(truth.pixels.par_chunks(row))
+            .enumerate()
+            .for_each(|(v, ((depth, hits), pixels))| {
+                let mut rng = seeds::rng(id.seed, Stream::CameraRow, id.index, v as u64);
+                for ((d, t), pixel) in depth.iter_mut().zip(hits.iter_mut()).zip(pixels) {
+                    let n: f64 = StandardNormal.sample(&mut rng);
+                    let keep: f64 = rng.random();
+                    let Some(p) = pixel else { continue };
+                    if keep < p.dropout {
+                        continue;
+                    }
+                    let r = p.distance + p.sigma * n;
+                    if r < min || r > max {
+                        continue;
+                    }
+                    *d = (r / p.norm) as f32;
+                    *t = Some(p.truth);
+                }
+            });
         DepthFrame {
             time,
             width: w,
             height: h,
             depth,
-            truth: Some(truth),
+            truth: Some(hits),
         }
     }
+
+    /// How far a ray is cast: the far range limit plus six σ there (a return beyond the
+    /// limit may be reported inside it).
+    fn reach(&self) -> f64 {
+        let max = self.spec.range[1];
+        max + 6.0 * self.sigma(max)
+    }
+}
+
+/// The noise-free return of one pixel: what the noise model needs to draw a frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TruePixel {
+    /// True range along the ray (m).
+    pub distance: f64,
+    /// σ of the range noise at that range ([`CameraModel::sigma`]).
+    pub sigma: f64,
+    /// Dropout probability ([`CameraModel::dropout_probability`] at the range and the
+    /// incidence angle).
+    pub dropout: f64,
+    /// Length of the pixel's unnormalised ray ([`DepthCameraSpec::pixel_ray`]): range / norm
+    /// is the depth along the optical axis.
+    pub norm: f64,
+    /// What the ray hit, and where.
+    pub truth: TruthHit,
+}
+
+/// The noise-free frame from one true sensor pose: per pixel (row-major) the return of its
+/// ray, `None` where the ray meets nothing within reach.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrueFrame {
+    /// The true sensor pose it was cast from (world frame).
+    pub pose: Pose,
+    /// Width, pixels.
+    pub width: usize,
+    /// Height, pixels.
+    pub height: usize,
+    /// Per pixel, row-major.
+    pub pixels: Vec<Option<TruePixel>>,
 }

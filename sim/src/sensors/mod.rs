@@ -7,5 +7,5 @@ mod camera_model;
 mod laser_model;
 
 pub use acquisition_id::AcquisitionId;
-pub use camera_model::CameraModel;
+pub use camera_model::{CameraModel, TrueFrame, TruePixel};
 pub use laser_model::LaserModel;

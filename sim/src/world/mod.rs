@@ -3,6 +3,7 @@
 //! kinematically and asked what it touches, and through which sensor rays are cast.
 
 mod contact;
+mod frame_caster;
 mod from_scene;
 mod ray_caster;
 mod static_body;
