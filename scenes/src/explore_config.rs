@@ -5,29 +5,15 @@
 use crate::error::{Problem, SceneError};
 use crate::scene::Scene;
 use nbv_core::kinematics::Joints;
-use nbv_core::pipeline::{ExploreConfig, ExploreMode, PoseUncertainty, TableFilter};
+use nbv_core::pipeline::{
+    ExploreConfig, ExploreMode, PoseUncertainty, SURVEY_HEIGHT, SURVEY_SPACING, TableFilter,
+};
 use nbv_core::planning::{Obstacle, ObstacleShape, PlannerConfig};
 use nbv_core::registration::{MapParams, PosePrior, RangeNoise, RegistrationParams};
 
 /// Distance (m) from each joint's axis to the sensors, roughly, over the arm's working
 /// poses: a joint offset of δ rad moves the sensors by about δ times this.
 pub const JOINT_LEVERS: [f64; 6] = [1.2, 1.0, 0.7, 0.2, 0.2, 0.1];
-
-/// Height (m) of the camera above the table top during the short-only survey: the Dinast
-/// (0.1–0.8 m) sees the table and objects up to 0.35 m tall from there.
-pub const SURVEY_HEIGHT: f64 = 0.45;
-/// Largest spacing (m) between survey poses: the camera's footprint at [`SURVEY_HEIGHT`] is
-/// about 0.75 × 0.54 m, so neighbouring frames overlap.
-pub const SURVEY_SPACING: f64 = 0.35;
-/// Standard deviations of the camera's range noise within which a short-range point is
-/// the table's ([`TableFilter`]): 2.5σ keeps 99 % of the table out.
-pub const TABLE_FILTER_SIGMAS: f64 = 2.5;
-/// Height (m) of the band above the [`TableFilter`]'s cut in which a view's points mark an
-/// object's footprint: low enough to stay under the horse's belly from steep views.
-pub const TABLE_FILTER_FOOT_HEIGHT: f64 = 0.02;
-/// Distance (m) along the table from the footprint within which a point explained by the
-/// table is kept as the object's foot: about the averaged range noise of a view.
-pub const TABLE_FILTER_FOOT_RADIUS: f64 = 0.006;
 
 impl Scene {
     /// The short-only survey: the camera looking straight down from [`SURVEY_HEIGHT`] above
@@ -105,17 +91,13 @@ impl Scene {
     }
 
     /// The camera's noise model, averaged over `[nbv] frames_per_view` frames, as the
-    /// [`TableFilter`] of the short-range views, rejecting within [`TABLE_FILTER_SIGMAS`]
-    /// standard deviations.
+    /// pipeline's [`TableFilter`] of the short-range views.
     pub fn table_filter(&self) -> TableFilter {
         let n = &self.sensors.short_range.noise;
-        TableFilter {
-            sigma_at_1m: n.range_sigma_at_1m / f64::from(self.nbv.frames_per_view.max(1)).sqrt(),
-            exponent: n.range_sigma_exponent,
-            k: TABLE_FILTER_SIGMAS,
-            foot_height: TABLE_FILTER_FOOT_HEIGHT,
-            foot_radius: TABLE_FILTER_FOOT_RADIUS,
-        }
+        TableFilter::for_camera(
+            n.range_sigma_at_1m / f64::from(self.nbv.frames_per_view.max(1)).sqrt(),
+            n.range_sigma_exponent,
+        )
     }
 
     /// The pipeline's configuration for this scene in `mode`.

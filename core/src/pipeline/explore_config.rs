@@ -7,6 +7,13 @@ use crate::perception::PhaseOneConfig;
 use crate::planning::{Obstacle, PlannerConfig};
 use crate::registration::RegistrationParams;
 
+/// Height (m) of the camera above the table top during the short-only survey: the Dinast
+/// (0.1–0.8 m) sees the table and objects up to 0.35 m tall from there.
+pub const SURVEY_HEIGHT: f64 = 0.45;
+/// Largest spacing (m) between survey poses: the camera's footprint at [`SURVEY_HEIGHT`] is
+/// about 0.75 × 0.54 m, so neighbouring frames overlap.
+pub const SURVEY_SPACING: f64 = 0.35;
+
 /// Which sensors the exploration uses.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub enum ExploreMode {

@@ -32,7 +32,7 @@ mod table_filter;
 
 pub use candidates::{ViewCandidates, view_candidates, viewing_centre};
 pub use exploration::explore;
-pub use explore_config::{ExploreConfig, ExploreMode};
+pub use explore_config::{ExploreConfig, ExploreMode, SURVEY_HEIGHT, SURVEY_SPACING};
 pub use explore_event::{ExploreEvent, ExploreObserver, NoObserver};
 pub use hand_eye::{HandEyeEstimate, estimate_hand_eye};
 pub use object_crop::ObjectRegion;

@@ -61,6 +61,34 @@ pub struct TableFilter {
 }
 
 impl TableFilter {
+    /// Standard deviations of the camera's range noise within which a short-range point is
+    /// the table's: 2.5σ keeps 99 % of the table out.
+    pub const SIGMAS: f64 = 2.5;
+    /// Height (m) of the band above the cut in which a view's points mark an object's
+    /// footprint: low enough to stay under the horse's belly from steep views.
+    pub const FOOT_HEIGHT: f64 = 0.02;
+    /// Distance (m) along the table from the footprint within which a point explained by
+    /// the table is kept as the object's foot: about the averaged range noise of a view.
+    pub const FOOT_RADIUS: f64 = 0.006;
+
+    /// The pipeline's filter for a camera whose averaged range noise is
+    /// `σ(d) = sigma_at_1m · d^exponent`: [`SIGMAS`](Self::SIGMAS),
+    /// [`FOOT_HEIGHT`](Self::FOOT_HEIGHT), [`FOOT_RADIUS`](Self::FOOT_RADIUS).
+    ///
+    /// ```
+    /// let f = nbv_core::pipeline::TableFilter::for_camera(0.04 / 8f64.sqrt(), 1.0);
+    /// assert_eq!((f.k, f.foot_height, f.foot_radius), (2.5, 0.02, 0.006));
+    /// ```
+    pub fn for_camera(sigma_at_1m: f64, exponent: f64) -> Self {
+        Self {
+            sigma_at_1m,
+            exponent,
+            k: Self::SIGMAS,
+            foot_height: Self::FOOT_HEIGHT,
+            foot_radius: Self::FOOT_RADIUS,
+        }
+    }
+
     /// Whether the point `p`, seen from `origin`, is explained by the table `plane`.
     pub fn is_table(&self, plane: &PlaneFit, origin: &Point3<f64>, p: &Point3<f64>) -> bool {
         self.ray_test(plane, origin, p).0
