@@ -66,7 +66,7 @@ fn files(dir: &Path) -> BTreeSet<PathBuf> {
     out
 }
 
-/// A temporary file of an atomic write (`.NAME.XXXXXX.tmp`, `nbv_core::atomic_file`).
+/// A temporary file of an atomic write (`.NAME.<random>.tmp`, `nbv_core::atomic_file`).
 fn is_temporary(p: &Path) -> bool {
     let name = p.file_name().unwrap().to_string_lossy();
     name.starts_with('.') && name.ends_with(".tmp")

@@ -166,14 +166,7 @@ fn frames_at_a_standstill_share_the_cast_and_a_motion_invalidates_it() {
         .collect();
     // One cast, three draws: same truth where valid, different noise.
     assert_ne!(burst[0].depth, burst[1].depth);
-    let jug = burst[2]
-        .truth
-        .as_ref()
-        .unwrap()
-        .iter()
-        .flatten()
-        .filter(|t| t.label == TruthLabel::Object(0))
-        .count();
+    let jug = pixels_of(&burst[2], TruthLabel::Object(0));
     assert!(jug > 1_000, "{jug} jug pixels");
 
     // A teleport: the next frame sees the empty part of the table, no jug.
@@ -188,11 +181,7 @@ fn frames_at_a_standstill_share_the_cast_and_a_motion_invalidates_it() {
             .flatten()
             .all(|t| t.label != TruthLabel::Object(0))
     );
-    let table = labels
-        .iter()
-        .flatten()
-        .filter(|t| t.label == TruthLabel::Table)
-        .count();
+    let table = pixels_of(&after_teleport, TruthLabel::Table);
     assert!(table > 30_000, "{table} table pixels");
     assert_ne!(truth_points(&after_teleport), truth_points(&burst[2]));
 
@@ -206,14 +195,7 @@ fn frames_at_a_standstill_share_the_cast_and_a_motion_invalidates_it() {
     assert!(rig.state().standstill_frame().is_none());
     let after_move = rig.camera.capture().unwrap();
     check_last_frame(&rig, &after_move);
-    let jug_again = after_move
-        .truth
-        .as_ref()
-        .unwrap()
-        .iter()
-        .flatten()
-        .filter(|t| t.label == TruthLabel::Object(0))
-        .count();
+    let jug_again = pixels_of(&after_move, TruthLabel::Object(0));
     assert!(jug_again > 1_000, "{jug_again} jug pixels");
 
     // A refused motion (outside the limits) also ends the standstill.
@@ -221,4 +203,16 @@ fn frames_at_a_standstill_share_the_cast_and_a_motion_invalidates_it() {
     bad[0] = 100.0;
     assert!(rig.arm.teleport(bad).is_err());
     assert!(rig.state().standstill_frame().is_none());
+}
+
+/// Pixels of `frame` whose true hit is `label`.
+fn pixels_of(frame: &DepthFrame, label: TruthLabel) -> usize {
+    frame
+        .truth
+        .as_ref()
+        .unwrap()
+        .iter()
+        .flatten()
+        .filter(|t| t.label == label)
+        .count()
 }

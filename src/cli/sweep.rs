@@ -15,7 +15,7 @@
 //! A run skips the episodes whose row file exists, so an interrupted sweep resumes without
 //! losing or duplicating rows; `merge` unions the rows of shard directories.
 //!
-//! Every file is written atomically (`nbv_core::atomic_file`: a temporary `.NAME.XXXXXX.tmp`
+//! Every file is written atomically (`nbv_core::atomic_file`: a temporary `.NAME.<random>.tmp`
 //! beside it, renamed when complete), so a killed run leaves no half-written file, but it
 //! can leave such temporary files, and the outputs of the episodes it was running. A run
 //! therefore first removes the temporary files of the sweep directory, `episodes/` and
@@ -291,7 +291,7 @@ fn run_one(grid: &SweepGrid, e: &Episode, out: &Path, pictures: bool) -> Result<
     write_json(&row_path(out, e), &row)
 }
 
-/// Whether `name` is the temporary file of an atomic write (`.NAME.XXXXXX.tmp`, see
+/// Whether `name` is the temporary file of an atomic write (`.NAME.<random>.tmp`, see
 /// `nbv_core::atomic_file`).
 fn is_temporary(name: &str) -> bool {
     name.len() > ".x..tmp".len() && name.starts_with('.') && name.ends_with(".tmp")
