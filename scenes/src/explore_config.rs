@@ -50,10 +50,11 @@ impl Scene {
     ///
     /// Per component: the hand-eye error's components are taken as σ (σ² = |xyz|²/3 and
     /// |rpy|²/3), the reported pose's noise as stated (its rotation, an angle about a random
-    /// axis, spread over three components), averaged over `[nbv] frames_per_view` frames
-    /// for a camera view; each joint offset turns the sensor by itself and moves it by
-    /// itself times the joint's lever to the sensor ([`JOINT_LEVERS`]). A floor of 0.1 mm
-    /// and 0.006° keeps a scene without errors well posed.
+    /// axis, spread over three components; one draw per standstill, so the frames of a
+    /// burst do not average it); each joint offset turns the sensor by itself and moves it
+    /// by itself times the joint's lever to the sensor ([`JOINT_LEVERS`]); every joint's
+    /// σ is the RMS of the stated offsets. A floor of 0.1 mm and 0.006° keeps a scene
+    /// without errors well posed.
     pub fn pose_uncertainty(&self) -> PoseUncertainty {
         let e = &self.errors;
         let sq = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>();
@@ -67,7 +68,6 @@ impl Scene {
             .map(|(q, l)| (q * l).powi(2))
             .sum::<f64>()
             / 3.0;
-        let frames = f64::from(self.nbv.frames_per_view.max(1));
         let prior = |r2: f64, t2: f64| PosePrior {
             rotation_sigma: r2.sqrt().max(1e-4),
             translation_sigma: t2.sqrt().max(1e-4),
@@ -84,9 +84,12 @@ impl Scene {
                 noise_t * noise_t + joint_t,
             ),
             camera_pose: prior(
-                sq(&rpy) / 3.0 + noise_r * noise_r / (3.0 * frames) + joint_r,
-                sq(&xyz) / 3.0 + noise_t * noise_t / frames + joint_t,
+                sq(&rpy) / 3.0 + noise_r * noise_r / 3.0 + joint_r,
+                sq(&xyz) / 3.0 + noise_t * noise_t + joint_t,
             ),
+            hand_eye: prior(sq(&rpy) / 3.0, sq(&xyz) / 3.0),
+            joint_offset_sigma: (sq(&joints) / joints.len().max(1) as f64).sqrt().max(1e-5),
+            view_noise: prior(noise_r * noise_r / 3.0, noise_t * noise_t),
         }
     }
 
@@ -193,6 +196,7 @@ impl Scene {
             },
             uncertainty: self.pose_uncertainty(),
             align_to_workcell: self.registration.align_to_workcell,
+            calibrate_hand_eye: self.registration.calibrate_hand_eye,
             registration_points: self.registration.points_per_view as usize,
             max_correction: (
                 self.registration.max_correction_deg.to_radians(),

@@ -12,7 +12,7 @@ use super::serial_chain::{FrameError, SerialChain};
 use super::urdf_error::UrdfError;
 use super::urdf_loader::chain_from_urdf;
 use crate::math::Pose;
-use nalgebra::{Point3, Vector3};
+use nalgebra::{Matrix6, Point3, Vector3};
 use std::path::Path;
 
 /// Slack on joint limits for solutions that land on a limit up to rounding (rad); such
@@ -206,6 +206,45 @@ impl Robot {
         self.chain
             .joint_axes(q)
             .map(|(axis, point)| (axis, Point3::from(point)))
+    }
+
+    /// How a small offset of each joint moves `frame` at `q`, in the frame itself: column
+    /// `j` is the twist `(ω, v)` (rotation first) of `T(q)⁻¹·T(q + ε·e_j)` per radian, so a
+    /// joint offset `δq` turns the frame by `ω = J_ω·δq` and moves it by `v = J_v·δq` (both
+    /// in the frame's own axes). The rig's self-calibration maps joint offsets to each
+    /// view's sensor-frame pose error with it.
+    ///
+    /// ```
+    /// # use nbv_core::kinematics::{Joints, Robot};
+    /// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+    /// let robot = Robot::from_urdf_file(path)?;
+    /// let q = Joints::from([0.3, -0.2, 0.4, 0.1, 0.5, -0.3]);
+    /// let j = robot.frame_jacobian(&q, "dinast")?;
+    /// // Against a finite difference of the forward kinematics, joint 2.
+    /// let eps = 1e-7;
+    /// let mut qe = q;
+    /// qe[1] += eps;
+    /// let d = robot.fk(&q, "dinast")?.inverse() * robot.fk(&qe, "dinast")?;
+    /// let w = d.rotation.scaled_axis() / eps;
+    /// let v = d.translation.vector / eps;
+    /// for k in 0..3 {
+    ///     assert!((j[(k, 1)] - w[k]).abs() < 1e-6);
+    ///     assert!((j[(k + 3, 1)] - v[k]).abs() < 1e-6);
+    /// }
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn frame_jacobian(&self, q: &Joints, frame: &str) -> Result<Matrix6<f64>, FrameError> {
+        let pose = self.fk(q, frame)?;
+        let to_frame = pose.rotation.inverse();
+        let origin = Point3::from(pose.translation.vector);
+        let mut j = Matrix6::zeros();
+        for (k, (axis, point)) in self.joint_axes(q).iter().enumerate() {
+            let w = to_frame * axis;
+            let v = to_frame * axis.cross(&(origin - point));
+            j.fixed_view_mut::<3, 1>(0, k).copy_from(&w);
+            j.fixed_view_mut::<3, 1>(3, k).copy_from(&v);
+        }
+        Ok(j)
     }
 
     /// Pose of `frame` relative to the tip link (`T_tip_frame`), for frames rigidly

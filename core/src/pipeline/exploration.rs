@@ -4,11 +4,11 @@
 use super::episode::Episode;
 use super::hand_eye::estimate_hand_eye;
 use super::object_loop::explore_object;
-use super::register_views::register_object;
+use super::register_views::{register_calibrated, register_object};
 use super::step_timer::timed;
 use super::{
-    Exploration, ExploreConfig, ExploreEvent, ExploreMode, ExploreObserver, ObjectExploration,
-    ObjectRegion, ObjectStop, PipelineError, StepTimes,
+    Exploration, ExploreConfig, ExploreEvent, ExploreMode, ExploreObserver, HandEyeEstimate,
+    ObjectExploration, ObjectRegion, ObjectStop, PipelineError, StepTimes,
 };
 use crate::nbv::NextBestView;
 use crate::rig::Rig;
@@ -83,7 +83,11 @@ pub fn explore(
         }
         objects.push(object);
     }
-    let hand_eye = estimate_hand_eye(&objects);
+    let hand_eye = if config.calibrate_hand_eye {
+        self_calibrate(&ep, &mut objects, phase_report.workcell.as_ref())
+    } else {
+        None
+    };
     Ok(Exploration {
         mode: config.mode,
         phase_one: phase_report,
@@ -92,4 +96,48 @@ pub fn explore(
         collisions: ep.collisions,
         hand_eye,
     })
+}
+
+/// Calibrated registration passes at most (a safety net: the estimate settles in two).
+const CALIBRATION_PASSES: usize = 4;
+/// The estimate has settled when `E` moves less than this between passes (rad, m).
+const CALIBRATION_SETTLED: (f64, f64) = (2e-5, 2e-5);
+
+/// The rig's self-calibration: the hand-eye correction and joint offsets from every
+/// object's registration ([`estimate_hand_eye`]), then each object registered again with
+/// its priors centred on the calibrated poses, until the estimate settles.
+fn self_calibrate(
+    ep: &Episode<'_, '_>,
+    objects: &mut [ObjectExploration],
+    workcell: Option<&crate::perception::WorkcellAlignment>,
+) -> Option<HandEyeEstimate> {
+    let config = ep.config;
+    let robot = &ep.rig.robot;
+    let frame = ep.rig.camera.spec().frame.clone();
+    let estimate = |objects: &[ObjectExploration]| {
+        estimate_hand_eye(objects, robot, &frame, &config.uncertainty)
+    };
+    let mut current = estimate(objects)?;
+    for pass in 1..=CALIBRATION_PASSES {
+        for object in objects.iter_mut() {
+            let mut seconds = 0.0;
+            let outcome = timed(&mut seconds, || {
+                register_calibrated(object, config, workcell, &current, robot, &frame)
+            });
+            object.times.registration += seconds;
+            if let Err(e) = outcome {
+                object.registration_error = Some(e.to_string());
+            }
+        }
+        let Some(mut next) = estimate(objects) else {
+            break;
+        };
+        next.passes = pass;
+        let (dr, dt) = next.change_from(&current);
+        current = next;
+        if dr < CALIBRATION_SETTLED.0 && dt < CALIBRATION_SETTLED.1 {
+            break;
+        }
+    }
+    Some(current)
 }

@@ -75,6 +75,10 @@ pub struct ExploreConfig {
     /// known obstacles in `obstacles`) before segmenting it
     /// ([`align_to_workcell`](crate::perception::align_to_workcell)).
     pub align_to_workcell: bool,
+    /// Estimate the depth camera's hand-eye correction and the joint offsets from every
+    /// object's registration and register each object again from the calibrated poses
+    /// ([`estimate_hand_eye`](super::estimate_hand_eye)).
+    pub calibrate_hand_eye: bool,
     /// The sensors' noise and pose uncertainty: the MAP registration's weights and priors.
     pub uncertainty: super::PoseUncertainty,
     /// Points per view kept for registration (views are subsampled evenly); 0 keeps all.

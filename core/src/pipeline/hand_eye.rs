@@ -1,40 +1,149 @@
-//! [`estimate_hand_eye`]: one correction of the depth camera's mount, estimated from every
-//! object's registration — the rig calibrates itself while it explores.
+//! [`estimate_hand_eye`]: the rig calibrates itself while it explores — one correction of
+//! the depth camera's mount (hand-eye) and of the six joint offsets, estimated from every
+//! object's registration.
 //!
-//! Each camera view's registration correction `ξ = (ω, t)` (world frame, about the
-//! sensor) is, in the sensor frame `R` of its reported pose, `(Rᵀω, Rᵀt)`; a hand-eye error
-//! `E` (true mount = nominal · `E`) gives every view the same sensor-frame correction: `E`'s
-//! rotation vector and translation. The registration's estimate of a view mixes its data
-//! with its prior; the data's own estimate is recovered from the information: with `H` the
-//! data's and `Λ` the prior's, `H·ξ_data = (H + Λ)·ξ`. The hand-eye estimate is the
-//! information-weighted mean of the data's estimates over all views, so a direction one
-//! view cannot see (the turn about a bottle's axis) is taken from the views that can.
+//! Each camera view's sensor-frame pose error is modelled as `E + J(q)·δq + n`: the
+//! hand-eye error `E` (rotation vector and translation, shared by every camera view), the
+//! joint offsets `δq` seen through the frame Jacobian at the view's joints
+//! ([`Robot::frame_jacobian`]), and an independent error `n` of the standstill
+//! ([`PoseUncertainty::view_noise`]). A view's registration is a MAP estimate that mixes
+//! its data with its prior; the data's own estimate is recovered from the information:
+//! with `H` the data's and `Λ` the prior's, `H·ξ_data = (H + Λ)·ξ − Λ·ξ₀` (`ξ₀` the
+//! initial correction). Each view then counts with the information `(H⁻¹ + Σ_n)⁻¹`
+//! (written `(I + H·Σ_n)⁻¹·H`, valid where `H` is singular), so a direction one view cannot
+//! see (the turn about a bottle's axis) is taken from the views that can, and no single
+//! view outweighs its standstill's noise. `θ = (E, δq)` is the weighted least-squares
+//! solution with the rig's declared σ of `E` and of each joint offset as a prior.
+//!
+//! The pipeline registers each object again with every view's prior centred on the
+//! calibrated pose (`E + J·δq` applied) and only the standstill noise and the estimate's
+//! own uncertainty as its σ, then estimates again, until the estimate stops moving.
 
-use nalgebra::{Matrix3, Matrix6, Vector6};
+use nalgebra::{Matrix3, Matrix6, Point3, SMatrix, SVector, Translation3, UnitQuaternion, Vector6};
 use serde::Serialize;
 
-use super::ObjectExploration;
-use crate::registration::MethodReport;
+use super::{ObjectExploration, PoseUncertainty};
+use crate::kinematics::{Joints, Robot};
+use crate::math::Pose;
+use crate::registration::{MethodReport, PosePrior};
 
-/// The estimated hand-eye correction (sensor frame).
+/// Parameters of the calibration: hand-eye (6) then joint offsets (6).
+const PARAMS: usize = 12;
+
+/// The estimated hand-eye correction (sensor frame) and joint offsets.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct HandEyeEstimate {
-    /// Rotation vector (rad) of the correction `E`.
+    /// Rotation vector (rad) of the correction `E` (true mount = nominal · `E`).
     pub rotation: [f64; 3],
     /// Translation (m) of `E`.
     pub translation: [f64; 3],
-    /// σ of the worst-determined rotation (rad) and translation (m) component.
+    /// Estimated joint offsets (rad, true minus reported).
+    pub joint_offsets: [f64; 6],
+    /// σ of the worst-determined rotation (rad) and translation (m) component of `E`.
     pub sigma: [f64; 2],
     /// Camera views that contributed.
     pub views: usize,
+    /// Registration passes with a calibrated prior that followed this estimate (0: the
+    /// estimate of the first pass was not used).
+    pub passes: usize,
+    /// Covariance of `(E, δq)`.
+    #[serde(skip)]
+    pub covariance: SMatrix<f64, PARAMS, PARAMS>,
 }
 
-/// The hand-eye estimate from the accepted MAP registrations of `objects` (views held at
-/// their prior or without correspondences do not count); `None` without any view or when
-/// the views together do not determine all six components.
-pub fn estimate_hand_eye(objects: &[ObjectExploration]) -> Option<HandEyeEstimate> {
-    let mut info = Matrix6::zeros();
-    let mut weighted = Vector6::zeros();
+impl HandEyeEstimate {
+    /// The calibrated correction of a camera view taken at `joints` with reported sensor
+    /// pose `sensor_pose`, as a world-frame `ξ = (ω, t)` about the sensor origin, and its
+    /// σ per rotation and translation component (the worst of each) from the estimate's
+    /// covariance.
+    pub fn view_correction(
+        &self,
+        robot: &Robot,
+        frame: &str,
+        joints: &Joints,
+        sensor_pose: &Pose,
+    ) -> Option<(Vector6<f64>, PosePrior)> {
+        let a = design(robot, frame, joints, sensor_pose)?;
+        let mut theta = SVector::<f64, PARAMS>::zeros();
+        theta.fixed_rows_mut::<3>(0).copy_from_slice(&self.rotation);
+        theta
+            .fixed_rows_mut::<3>(3)
+            .copy_from_slice(&self.translation);
+        theta
+            .fixed_rows_mut::<6>(6)
+            .copy_from_slice(&self.joint_offsets);
+        let cov = a * self.covariance * a.transpose();
+        let d = cov.diagonal();
+        let sigma = PosePrior {
+            rotation_sigma: d.fixed_rows::<3>(0).max().max(0.0).sqrt(),
+            translation_sigma: d.fixed_rows::<3>(3).max().max(0.0).sqrt(),
+        };
+        Some((a * theta, sigma))
+    }
+
+    /// The largest change of `E` from `other`: rotation (rad) and translation (m).
+    pub fn change_from(&self, other: &Self) -> (f64, f64) {
+        let d =
+            |a: [f64; 3], b: [f64; 3]| (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt();
+        (
+            d(self.rotation, other.rotation),
+            d(self.translation, other.translation),
+        )
+    }
+}
+
+/// A world-frame correction `ξ = (ω, t)` about `origin` as a pose: `x ↦ R(ω)·(x − o) + o + t`.
+pub fn correction_pose(xi: &Vector6<f64>, origin: &Point3<f64>) -> Pose {
+    let r = UnitQuaternion::from_scaled_axis(xi.fixed_rows::<3>(0).into_owned());
+    let t = origin.coords + xi.fixed_rows::<3>(3) - r * origin.coords;
+    Pose::from_parts(Translation3::from(t), r)
+}
+
+/// `ξ = (ω, t)` of a world-frame correction pose about `origin`.
+pub fn correction_of(pose: &Pose, origin: &Point3<f64>) -> Vector6<f64> {
+    let w = pose.rotation.scaled_axis();
+    let t = pose * origin - origin;
+    Vector6::new(w.x, w.y, w.z, t.x, t.y, t.z)
+}
+
+/// The 6×12 map from `(E, δq)` to a view's world-frame correction about its sensor
+/// origin: `B·[I | J(q)]` with `B` the sensor's rotation on both halves.
+fn design(
+    robot: &Robot,
+    frame: &str,
+    joints: &Joints,
+    sensor_pose: &Pose,
+) -> Option<SMatrix<f64, 6, PARAMS>> {
+    let j = robot.frame_jacobian(joints, frame).ok()?;
+    let r: Matrix3<f64> = sensor_pose.rotation.to_rotation_matrix().into_inner();
+    let mut b = Matrix6::zeros();
+    b.fixed_view_mut::<3, 3>(0, 0).copy_from(&r);
+    b.fixed_view_mut::<3, 3>(3, 3).copy_from(&r);
+    let mut a = SMatrix::<f64, 6, PARAMS>::zeros();
+    a.fixed_view_mut::<6, 6>(0, 0).copy_from(&b);
+    a.fixed_view_mut::<6, 6>(0, 6).copy_from(&(b * j));
+    Some(a)
+}
+
+/// Diagonal covariance of a [`PosePrior`], rotation first.
+fn covariance_of(p: &PosePrior) -> Matrix6<f64> {
+    let (r, t) = (p.rotation_sigma.powi(2), p.translation_sigma.powi(2));
+    Matrix6::from_diagonal(&Vector6::new(r, r, r, t, t, t))
+}
+
+/// The hand-eye correction and joint offsets from the accepted MAP registrations of
+/// `objects` (views held at their prior or without correspondences do not count), with
+/// `robot`'s camera `frame` and the rig's declared `uncertainty` as the prior; `None`
+/// without any view or when the normal equations are singular.
+pub fn estimate_hand_eye(
+    objects: &[ObjectExploration],
+    robot: &Robot,
+    frame: &str,
+    uncertainty: &PoseUncertainty,
+) -> Option<HandEyeEstimate> {
+    let noise = covariance_of(&uncertainty.view_noise);
+    let mut normal = SMatrix::<f64, PARAMS, PARAMS>::zeros();
+    let mut rhs = SVector::<f64, PARAMS>::zeros();
     let mut views = 0;
     for object in objects {
         let Some(r) = object.registration.as_ref().filter(|r| r.map_accepted) else {
@@ -44,46 +153,66 @@ pub fn estimate_hand_eye(objects: &[ObjectExploration]) -> Option<HandEyeEstimat
             continue;
         };
         // Registration view k ≥ 1 is the k-th non-empty camera view.
-        let poses = object
+        let taken = object.views.iter().filter(|v| !v.cloud.is_empty());
+        let entries = report
             .views
             .iter()
-            .filter(|v| !v.cloud.is_empty())
-            .map(|v| v.sensor_pose);
-        let entries = report.views.iter().zip(&r.models).skip(1);
-        for (pose, (v, model)) in poses.zip(entries) {
+            .zip(&r.models)
+            .zip(&r.map_initial)
+            .skip(1);
+        for (view, ((v, model), initial)) in taken.zip(entries) {
             if v.held_at_prior || v.unconstrained {
                 continue;
             }
             let Some(prior) = model.prior else {
                 continue;
             };
-            let rt: Matrix3<f64> = pose.rotation.to_rotation_matrix().matrix().transpose();
-            let mut b = Matrix6::zeros();
-            b.fixed_view_mut::<3, 3>(0, 0).copy_from(&rt);
-            b.fixed_view_mut::<3, 3>(3, 3).copy_from(&rt);
+            let Some(a) = design(robot, frame, &view.joints, &view.sensor_pose) else {
+                continue;
+            };
+            let origin = Point3::from(view.sensor_pose.translation.vector);
+            let xi0 = correction_of(initial, &origin);
+            // The correction of the run, relative to its initial pose.
             let xi = Vector6::from_column_slice(&v.correction);
             let h = v.data_information;
-            info += b * h * b.transpose();
-            weighted += b * ((h + prior.information()) * xi);
+            let lambda = prior.information();
+            // H·ξ_data, then the view's weight (I + H·Σ_n)⁻¹ applied.
+            let y = (h + lambda) * xi + h * xi0;
+            let Some(m) = (Matrix6::identity() + h * noise).try_inverse() else {
+                continue;
+            };
+            let w = m * h;
+            let w = (w + w.transpose()) * 0.5;
+            normal += a.transpose() * w * a;
+            rhs += a.transpose() * (m * y);
             views += 1;
         }
     }
     if views == 0 {
         return None;
     }
-    let covariance = info.try_inverse()?;
-    let e = covariance * weighted;
+    let he = uncertainty.hand_eye.information();
+    let q = 1.0 / uncertainty.joint_offset_sigma.powi(2);
+    for k in 0..6 {
+        normal[(k, k)] += he[(k, k)];
+        normal[(6 + k, 6 + k)] += q;
+    }
+    let covariance = normal.try_inverse()?;
+    let theta = covariance * rhs;
     let d = covariance.diagonal();
-    if d.iter().any(|v| !v.is_finite() || *v <= 0.0) {
+    if d.iter().any(|v| !v.is_finite() || *v <= 0.0) || theta.iter().any(|v| !v.is_finite()) {
         return None;
     }
     Some(HandEyeEstimate {
-        rotation: [e[0], e[1], e[2]],
-        translation: [e[3], e[4], e[5]],
+        rotation: [theta[0], theta[1], theta[2]],
+        translation: [theta[3], theta[4], theta[5]],
+        joint_offsets: std::array::from_fn(|k| theta[6 + k]),
         sigma: [
             d.fixed_rows::<3>(0).max().sqrt(),
             d.fixed_rows::<3>(3).max().sqrt(),
         ],
         views,
+        passes: 0,
+        covariance,
     })
 }

@@ -20,6 +20,9 @@ use crate::registration::{PosePrior, RangeNoise, ViewModel};
 ///     camera_noise: RangeNoise { sigma_at_1m: 0.04, exponent: 1.0 },
 ///     laser_pose: PosePrior { rotation_sigma: 0.002, translation_sigma: 0.002 },
 ///     camera_pose: PosePrior { rotation_sigma: 0.005, translation_sigma: 0.003 },
+///     hand_eye: PosePrior { rotation_sigma: 0.004, translation_sigma: 0.002 },
+///     joint_offset_sigma: 0.001,
+///     view_noise: PosePrior { rotation_sigma: 0.002, translation_sigma: 0.002 },
 /// };
 /// let prior = u.camera_prior(1.0);
 /// // The laser's 0.002 rad at 1 m adds about 1.6 mm per axis.
@@ -35,8 +38,16 @@ pub struct PoseUncertainty {
     /// How far the laser sweep's reported pose may be off.
     pub laser_pose: PosePrior,
     /// How far a camera view's reported pose may be off (hand-eye, kinematics, noise of
-    /// the reported pose averaged over the view's frames).
+    /// the reported pose): the prior of the first registration pass.
     pub camera_pose: PosePrior,
+    /// How far the depth camera's mount (hand-eye) may be off: one error that every
+    /// camera view shares, which the rig's self-calibration estimates.
+    pub hand_eye: PosePrior,
+    /// σ of each joint's angle offset (rad), the kinematic calibration error.
+    pub joint_offset_sigma: f64,
+    /// How far one standstill's reported pose may be off beyond the hand-eye and joint
+    /// errors (independent per view).
+    pub view_noise: PosePrior,
 }
 
 impl PoseUncertainty {
@@ -57,6 +68,18 @@ impl PoseUncertainty {
     /// then camera views of `frames` averaged frames each. Sensor positions come from the
     /// views' `origins` columns (the centroid stands in where there is none).
     pub fn view_models(&self, views: &[PointCloud], frames: usize) -> Vec<ViewModel> {
+        self.view_models_with(views, frames, |_| self.camera_pose)
+    }
+
+    /// [`view_models`](Self::view_models) with camera view `k`'s own pose σ
+    /// `camera_pose(k)` in place of [`camera_pose`](Self::camera_pose) (the laser's
+    /// share is added as there).
+    pub fn view_models_with(
+        &self,
+        views: &[PointCloud],
+        frames: usize,
+        camera_pose: impl Fn(usize) -> PosePrior,
+    ) -> Vec<ViewModel> {
         let origin = |v: &PointCloud| v.origin_centroid().or_else(|| v.centroid());
         let laser = views.first().and_then(origin);
         views
@@ -74,9 +97,13 @@ impl PoseUncertainty {
                     (Some(a), Some(b)) => (a - b).norm(),
                     _ => 0.0,
                 };
+                let own = Self {
+                    camera_pose: camera_pose(k),
+                    ..*self
+                };
                 ViewModel {
                     noise: self.camera_noise.averaged(frames),
-                    prior: Some(self.camera_prior(distance)),
+                    prior: Some(own.camera_prior(distance)),
                 }
             })
             .collect()

@@ -1,11 +1,19 @@
 //! Register (Figure 2, the last step): each object's phase-1 cluster (the reference) and
 //! its views, by the MAP registration (the model's) with the rig's pose uncertainty, and
-//! by the paper's p-ICP-GPA and sequential ICP beside it, from the same input.
+//! by the paper's p-ICP-GPA and sequential ICP beside it, from the same input; and again,
+//! MAP only, with every view's prior centred on the rig's self-calibration.
 
-use super::{ExploreConfig, ObjectExploration, ObjectRegistration};
+use super::{
+    ExploreConfig, HandEyeEstimate, ObjectExploration, ObjectRegistration, PoseUncertainty,
+};
 use crate::cloud::PointCloud;
+use crate::kinematics::Robot;
 use crate::math::Pose;
-use crate::registration::{Method, RegistrationParams, register, register_with_models};
+use crate::perception::WorkcellAlignment;
+use crate::registration::{
+    Method, MethodReport, PosePrior, Registration, RegistrationError, RegistrationParams,
+    ViewModel, register, register_with_models,
+};
 
 /// Evenly keeps at most `n` points of `cloud` (all columns); 0 keeps all.
 fn subsample(cloud: &PointCloud, n: usize) -> PointCloud {
@@ -16,13 +24,9 @@ fn subsample(cloud: &PointCloud, n: usize) -> PointCloud {
     cloud.select(&indices)
 }
 
-/// Registers the cluster (reference) and the views with the MAP registration (the
-/// model's), the paper's p-ICP-GPA and sequential ICP, from the same input.
-pub(super) fn register_object(
-    object: &ObjectExploration,
-    config: &ExploreConfig,
-    workcell: Option<&crate::perception::WorkcellAlignment>,
-) -> Result<ObjectRegistration, crate::registration::RegistrationError> {
+/// The registration's input: the cluster (reference) and the non-empty views,
+/// subsampled, each camera point with its sensor position.
+fn registration_views(object: &ObjectExploration, config: &ExploreConfig) -> Vec<PointCloud> {
     let points = config.registration_points;
     let mut views = vec![subsample(&object.cluster, points)];
     views.extend(
@@ -38,40 +42,64 @@ pub(super) fn register_object(
                 cloud
             }),
     );
-    let initial = vec![Pose::identity(); views.len()];
-    // A sweep aligned to the workcell is off by its posterior uncertainty only.
+    views
+}
+
+/// The rig's uncertainty, the laser's pose prior replaced by the workcell alignment's
+/// posterior where the sweep was aligned.
+fn uncertainty_of(config: &ExploreConfig, workcell: Option<&WorkcellAlignment>) -> PoseUncertainty {
     let mut uncertainty = config.uncertainty;
     if let Some(a) = workcell.filter(|a| a.accepted) {
-        uncertainty.laser_pose = crate::registration::PosePrior {
+        uncertainty.laser_pose = PosePrior {
             rotation_sigma: a.sigma.0,
             translation_sigma: a.sigma.1,
         };
     }
-    let models = uncertainty.view_models(&views, config.frames_per_view);
-    let params = |method| RegistrationParams {
+    uncertainty
+}
+
+fn params(config: &ExploreConfig, method: Method) -> RegistrationParams {
+    RegistrationParams {
         method,
         reference: 0,
         ..config.registration.clone()
-    };
-    let map = register_with_models(&views, &initial, &models, &params(Method::Map))?;
-    let gpa = register(&views, &initial, &params(Method::Gpa))?;
+    }
+}
+
+fn map_accepted(map: &Registration) -> bool {
+    matches!(&map.report, MethodReport::Map(m) if m.accepted)
+}
+
+/// Registers the cluster (reference) and the views with the MAP registration (the
+/// model's), the paper's p-ICP-GPA and sequential ICP, from the same input.
+pub(super) fn register_object(
+    object: &ObjectExploration,
+    config: &ExploreConfig,
+    workcell: Option<&WorkcellAlignment>,
+) -> Result<ObjectRegistration, RegistrationError> {
+    let views = registration_views(object, config);
+    let initial = vec![Pose::identity(); views.len()];
+    let models = uncertainty_of(config, workcell).view_models(&views, config.frames_per_view);
+    let map = register_with_models(&views, &initial, &models, &params(config, Method::Map))?;
+    let gpa = register(&views, &initial, &params(config, Method::Gpa))?;
     let icp = register(
         &views,
         &initial,
-        &params(Method::SequentialIcp {
-            point_to_plane: false,
-        }),
+        &params(
+            config,
+            Method::SequentialIcp {
+                point_to_plane: false,
+            },
+        ),
     )?;
-    let accepted = |r: &crate::registration::Registration| {
+    let accepted = |r: &Registration| {
         r.converged && within_correction(&views, &r.poses, config.max_correction)
-    };
-    let map_accepted = match &map.report {
-        crate::registration::MethodReport::Map(m) => m.accepted,
-        _ => false,
     };
     Ok(ObjectRegistration {
         models,
-        map_accepted,
+        map_accepted: map_accepted(&map),
+        map_initial: initial,
+        calibrated: false,
         gpa_accepted: accepted(&gpa),
         icp_accepted: accepted(&icp),
         views,
@@ -79,6 +107,57 @@ pub(super) fn register_object(
         gpa,
         icp,
     })
+}
+
+/// The MAP registration of `object` again, every camera view starting from and held
+/// towards its self-calibrated pose (`calibration` applied at the view's joints), its
+/// prior σ only the standstill's noise, the laser anchor's and the calibration's own. It
+/// replaces the object's MAP registration when it is accepted; `Ok(false)` leaves it.
+pub(super) fn register_calibrated(
+    object: &mut ObjectExploration,
+    config: &ExploreConfig,
+    workcell: Option<&WorkcellAlignment>,
+    calibration: &HandEyeEstimate,
+    robot: &Robot,
+    frame: &str,
+) -> Result<bool, RegistrationError> {
+    let Some(first) = object.registration.as_ref() else {
+        return Ok(false);
+    };
+    let views = &first.views;
+    let uncertainty = uncertainty_of(config, workcell);
+    let mut initial = vec![Pose::identity(); views.len()];
+    let mut own = vec![uncertainty.camera_pose; views.len()];
+    let taken = object.views.iter().filter(|v| !v.cloud.is_empty());
+    for (k, view) in taken.enumerate().map(|(k, v)| (k + 1, v)) {
+        let Some((xi, sigma)) =
+            calibration.view_correction(robot, frame, &view.joints, &view.sensor_pose)
+        else {
+            return Ok(false);
+        };
+        let origin = nalgebra::Point3::from(view.sensor_pose.translation.vector);
+        initial[k] = super::hand_eye::correction_pose(&xi, &origin);
+        let noise = uncertainty.view_noise;
+        own[k] = PosePrior {
+            rotation_sigma: noise.rotation_sigma.hypot(sigma.rotation_sigma),
+            translation_sigma: noise.translation_sigma.hypot(sigma.translation_sigma),
+        };
+    }
+    let models: Vec<ViewModel> =
+        uncertainty.view_models_with(views, config.frames_per_view, |k| own[k]);
+    let map = register_with_models(views, &initial, &models, &params(config, Method::Map))?;
+    if !map_accepted(&map) {
+        return Ok(false);
+    }
+    let Some(r) = object.registration.as_mut() else {
+        return Ok(false);
+    };
+    r.map = map;
+    r.models = models;
+    r.map_initial = initial;
+    r.map_accepted = true;
+    r.calibrated = true;
+    Ok(true)
 }
 
 /// Whether every pose (a correction of a view given in the world frame) turns by at most

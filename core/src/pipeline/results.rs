@@ -148,6 +148,13 @@ pub struct ObjectRegistration {
     pub models: Vec<crate::registration::ViewModel>,
     /// The MAP registration: the model's.
     pub map: Registration,
+    /// The initial poses of the MAP registration (corrections of the reported poses in
+    /// the world frame): the identity in the first pass, the rig's self-calibration
+    /// ([`HandEyeEstimate`](super::HandEyeEstimate)) in a calibrated pass.
+    pub map_initial: Vec<crate::math::Pose>,
+    /// Whether [`map`](Self::map) is a calibrated pass (its priors centred on the
+    /// self-calibrated poses).
+    pub calibrated: bool,
     /// The paper's p-ICP-GPA.
     pub gpa: Registration,
     /// Sequential ICP (view h onto view h−1).

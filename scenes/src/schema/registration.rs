@@ -28,6 +28,10 @@ pub struct Registration {
     /// anchor — and the exclusion of known obstacles are where the scene says. Default
     /// true.
     pub align_to_workcell: bool,
+    /// Calibrate the rig while exploring: estimate one hand-eye correction of the depth
+    /// camera (and the joint offsets) from every object's registration, then register
+    /// each object again from the calibrated poses. Default true.
+    pub calibrate_hand_eye: bool,
 }
 
 impl Default for Registration {
@@ -40,6 +44,7 @@ impl Default for Registration {
             max_correction_deg: 5.0,
             max_correction_m: 0.03,
             align_to_workcell: true,
+            calibrate_hand_eye: true,
         }
     }
 }
