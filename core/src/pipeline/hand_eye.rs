@@ -29,6 +29,11 @@ use crate::registration::{MethodReport, PosePrior};
 
 /// Parameters of the calibration: hand-eye (6) then joint offsets (6).
 const PARAMS: usize = 12;
+/// Reweighting rounds of the robust estimate.
+const ROBUST_ITERATIONS: usize = 10;
+/// Cauchy scale of a view's χ² (6 degrees of freedom) in the robust estimate: twice the
+/// expected χ.
+const ROBUST_SCALE2: f64 = 24.0;
 
 /// The estimated hand-eye correction (sensor frame) and joint offsets.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -142,9 +147,8 @@ pub fn estimate_hand_eye(
     uncertainty: &PoseUncertainty,
 ) -> Option<HandEyeEstimate> {
     let noise = covariance_of(&uncertainty.view_noise);
-    let mut normal = SMatrix::<f64, PARAMS, PARAMS>::zeros();
-    let mut rhs = SVector::<f64, PARAMS>::zeros();
-    let mut views = 0;
+    // Per view: the design `A`, the weight `W` and the data's own estimate `ξ_data`.
+    let mut terms: Vec<(SMatrix<f64, 6, PARAMS>, Matrix6<f64>, Vector6<f64>)> = Vec::new();
     for object in objects {
         let Some(r) = object.registration.as_ref().filter(|r| r.map_accepted) else {
             continue;
@@ -172,32 +176,54 @@ pub fn estimate_hand_eye(
             };
             let origin = Point3::from(view.sensor_pose.translation.vector);
             let xi0 = correction_of(initial, &origin);
-            // The correction of the run, relative to its initial pose.
+            // The run's correction, relative to its initial pose.
             let xi = Vector6::from_column_slice(&v.correction);
             let h = v.data_information;
-            let lambda = prior.information();
-            // H·ξ_data, then the view's weight (I + H·Σ_n)⁻¹ applied.
-            let y = (h + lambda) * xi + h * xi0;
+            // H·ξ_data at the MAP optimum, and the view's weight (I + H·Σ_n)⁻¹·H.
+            let y = (h + prior.information()) * xi + h * xi0;
             let Some(m) = (Matrix6::identity() + h * noise).try_inverse() else {
                 continue;
             };
             let w = m * h;
             let w = (w + w.transpose()) * 0.5;
-            normal += a.transpose() * w * a;
-            rhs += a.transpose() * (m * y);
-            views += 1;
+            let Some(xi_data) = w.pseudo_inverse(1e-12).ok().map(|p| p * (m * y)) else {
+                continue;
+            };
+            terms.push((a, w, xi_data));
         }
     }
-    if views == 0 {
+    if terms.is_empty() {
         return None;
     }
     let he = uncertainty.hand_eye.information();
     let q = 1.0 / uncertainty.joint_offset_sigma.powi(2);
-    for k in 0..6 {
-        normal[(k, k)] += he[(k, k)];
-        normal[(6 + k, 6 + k)] += q;
+    // Iteratively reweighted: a view whose own estimate disagrees with the rest beyond its
+    // weight (a registration pulled by a wrong match) counts less (Cauchy on its χ²).
+    let mut robust = vec![1.0; terms.len()];
+    let mut normal = SMatrix::<f64, PARAMS, PARAMS>::zeros();
+    for _ in 0..ROBUST_ITERATIONS {
+        normal = SMatrix::<f64, PARAMS, PARAMS>::zeros();
+        let mut rhs = SVector::<f64, PARAMS>::zeros();
+        for ((a, w, xi), k) in terms.iter().zip(&robust) {
+            normal += a.transpose() * w * a * *k;
+            rhs += a.transpose() * (w * xi) * *k;
+        }
+        for k in 0..6 {
+            normal[(k, k)] += he[(k, k)];
+            normal[(6 + k, 6 + k)] += q;
+        }
+        let theta = normal.try_inverse()? * rhs;
+        for ((a, w, xi), k) in terms.iter().zip(robust.iter_mut()) {
+            let r = xi - a * theta;
+            *k = 1.0 / (1.0 + r.dot(&(w * r)) / ROBUST_SCALE2);
+        }
     }
+    let views = terms.len();
     let covariance = normal.try_inverse()?;
+    let mut rhs = SVector::<f64, PARAMS>::zeros();
+    for ((a, w, xi), k) in terms.iter().zip(&robust) {
+        rhs += a.transpose() * (w * xi) * *k;
+    }
     let theta = covariance * rhs;
     let d = covariance.diagonal();
     if d.iter().any(|v| !v.is_finite() || *v <= 0.0) || theta.iter().any(|v| !v.is_finite()) {
