@@ -158,6 +158,9 @@ pub struct ObjectEntry {
     /// The MAP registration in detail: the verdict, per view the correction, its χ² and
     /// whether it was held at the prior.
     pub registration: Option<nbv_core::registration::MapReport>,
+    /// Whether `registration` is a calibrated pass: its priors centred on the poses the
+    /// rig's self-calibration (`hand_eye`) predicts, not on the reported ones.
+    pub registration_calibrated: bool,
     /// Sequential ICP.
     pub error_icp: Option<RegistrationScore>,
     /// Registration failure message, if any.
@@ -271,6 +274,8 @@ pub struct HandEyeEntry {
     pub rotation_error_deg: Option<f64>,
     /// Distance (m) between estimate and truth.
     pub translation_error: Option<f64>,
+    /// The twin's injected joint offsets (rad).
+    pub joint_offsets_truth: Option<[f64; 6]>,
 }
 
 /// Totals over the objects.
@@ -409,6 +414,31 @@ impl ExploreReport {
             }
             s += &line;
             s += "\n";
+            let q = e.joint_offsets.map(f64::to_degrees);
+            let mut line = format!(
+                "    σ {:.2}° / {:.1} mm; joint offsets [{:.3}, {:.3}, {:.3}, {:.3}, {:.3}, {:.3}]°",
+                e.sigma[0].to_degrees(),
+                e.sigma[1] * 1e3,
+                q[0],
+                q[1],
+                q[2],
+                q[3],
+                q[4],
+                q[5]
+            );
+            if let Some(t) = h.joint_offsets_truth {
+                let t = t.map(f64::to_degrees);
+                line += &format!(
+                    " (injected [{:.3}, {:.3}, {:.3}, {:.3}, {:.3}, {:.3}]°)",
+                    t[0], t[1], t[2], t[3], t[4], t[5]
+                );
+            }
+            line += &format!(
+                "; {} calibrated registration pass(es): every object registered again from the calibrated poses",
+                e.passes
+            );
+            s += &line;
+            s += "\n";
         }
         s += &format!(
             "  (F: F-score, the harmonic mean of P, the share of the model's points within \
@@ -542,6 +572,7 @@ pub fn evaluate(
             error_gpa,
             error_pgpa,
             registration: map_report,
+            registration_calibrated: object.registration.as_ref().is_some_and(|r| r.calibrated),
             error_icp,
             registration_error: object.registration_error.clone(),
             times: Times::from(&object.times),
@@ -815,5 +846,6 @@ fn hand_eye_entry(scene: &Scene, estimate: &nbv_core::pipeline::HandEyeEstimate)
         translation_error: Some(
             (nalgebra::Vector3::from(estimate.translation) - truth.translation.vector).norm(),
         ),
+        joint_offsets_truth: Some(scene.errors.scaled_joint_offsets()),
     }
 }

@@ -98,10 +98,11 @@ pub fn explore(
     })
 }
 
-/// Calibrated registration passes at most (a safety net: the estimate settles in two).
-const CALIBRATION_PASSES: usize = 4;
-/// The estimate has settled when `E` moves less than this between passes (rad, m).
-const CALIBRATION_SETTLED: (f64, f64) = (2e-5, 2e-5);
+/// Calibrated registration passes at most (a safety net).
+const CALIBRATION_PASSES: usize = 3;
+/// The estimate has settled when `E` moves by less than this fraction of its own σ
+/// between passes.
+const CALIBRATION_SETTLED: f64 = 0.25;
 
 /// The rig's self-calibration: the hand-eye correction and joint offsets from every
 /// object's registration ([`estimate_hand_eye`]), then each object registered again with
@@ -135,7 +136,8 @@ fn self_calibrate(
         next.passes = pass;
         let (dr, dt) = next.change_from(&current);
         current = next;
-        if dr < CALIBRATION_SETTLED.0 && dt < CALIBRATION_SETTLED.1 {
+        let settled = |d: f64, sigma: f64| d < CALIBRATION_SETTLED * sigma;
+        if settled(dr, current.sigma[0]) && settled(dt, current.sigma[1]) {
             break;
         }
     }
