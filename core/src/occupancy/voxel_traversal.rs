@@ -185,8 +185,35 @@ impl VoxelTraversal {
     /// ```
     #[inline]
     pub fn for_each_linear(self, mut f: impl FnMut(usize)) {
+        self.find_map_linear(|l, _| -> Option<()> {
+            f(l);
+            None
+        });
+    }
+
+    /// Calls `f` with the linear index and the entry distance (`t_enter`) of every voxel
+    /// the traversal has still to yield, in order, until `f` returns `Some`; returns that.
+    /// The same voxels and distances as iterating, in the tight loop of
+    /// [`VoxelTraversal::for_each_linear`] (used by the next-best-view ray casting, which
+    /// stops at the first voxel of the reduced map).
+    ///
+    /// ```
+    /// use nbv_core::occupancy::GridGeometry;
+    /// use nalgebra::{Point3, Vector3};
+    /// let g = GridGeometry::from_dims(Point3::origin(), 1.0, [4, 4, 1]).unwrap();
+    /// let (o, d) = (Point3::new(-1.0, -0.5, 0.5), Vector3::new(1.0, 0.7, 0.0));
+    /// let third = g.traverse(&o, &d, 10.0).unwrap().nth(2).unwrap();
+    /// let mut k = 0;
+    /// let found = g.traverse(&o, &d, 10.0).unwrap().find_map_linear(|l, t| {
+    ///     k += 1;
+    ///     (k == 3).then_some((l, t))
+    /// });
+    /// assert_eq!(found, Some((third.linear, third.t_enter)));
+    /// ```
+    #[inline]
+    pub fn find_map_linear<B>(self, mut f: impl FnMut(usize, f64) -> Option<B>) -> Option<B> {
         if self.done {
-            return;
+            return None;
         }
         /// One axis of the walk: the linear stride of a step, the steps left inside the
         /// grid, the index of the next boundary plane (as f64, exact) and its increment.
@@ -228,16 +255,20 @@ impl VoxelTraversal {
         let boundary = |a: usize, plane: f64| (min[a] + plane * res - origin[a]) * inv[a];
         // No distance is NaN, so `<` picks the minimum as `f64::min` does.
         let less = |a: f64, b: f64| if a < b { a } else { b };
+        let mut t_enter = self.t;
         loop {
-            f(lin);
+            if let Some(b) = f(lin, t_enter) {
+                return Some(b);
+            }
             let tn = less(less(tx, ty), tz);
             if tn >= t_end {
-                return;
+                return None;
             }
+            t_enter = tn;
             // Every axis whose next plane is at `tn` steps (ties step together).
             if tx == tn {
                 if x.left == 0 {
-                    return;
+                    return None;
                 }
                 x.left -= 1;
                 lin = lin.wrapping_add_signed(x.stride);
@@ -246,7 +277,7 @@ impl VoxelTraversal {
             }
             if ty == tn {
                 if y.left == 0 {
-                    return;
+                    return None;
                 }
                 y.left -= 1;
                 lin = lin.wrapping_add_signed(y.stride);
@@ -255,7 +286,7 @@ impl VoxelTraversal {
             }
             if tz == tn {
                 if z.left == 0 {
-                    return;
+                    return None;
                 }
                 z.left -= 1;
                 lin = lin.wrapping_add_signed(z.stride);
@@ -534,6 +565,20 @@ mod tests {
                 let mut fast = Vec::new();
                 g.traverse(&o, &dir, t_max).unwrap().for_each_linear(|l| fast.push(l));
                 prop_assert_eq!(&fast, &slow);
+                let slow_t: Vec<(usize, u64)> = g.traverse(&o, &dir, t_max).unwrap()
+                    .map(|c| (c.linear, c.t_enter.to_bits())).collect();
+                let mut fast_t = Vec::new();
+                let none = g.traverse(&o, &dir, t_max).unwrap().find_map_linear(|l, t| {
+                    fast_t.push((l, t.to_bits()));
+                    None::<()>
+                });
+                prop_assert_eq!(none, None);
+                prop_assert_eq!(&fast_t, &slow_t);
+                if let Some(&(l, t)) = slow_t.get(skip) {
+                    let found = g.traverse(&o, &dir, t_max).unwrap()
+                        .find_map_linear(|l2, t2| (l2 == l && t2.to_bits() == t).then_some(t2));
+                    prop_assert_eq!(found.map(f64::to_bits), Some(t));
+                }
                 // After part of the traversal has been iterated, the rest.
                 let mut it = g.traverse(&o, &dir, t_max).unwrap();
                 let head: Vec<usize> = it.by_ref().take(skip).map(|c| c.linear).collect();
