@@ -331,9 +331,9 @@ fn check_scan(
     Ok(())
 }
 
-/// Traces a checked scan into `marks` (untouched on entry), in two parallel phases over
-/// shared marks: first every crossed voxel is marked free, then every hit voxel is marked
-/// hit. Each phase only ever stores one constant value, so the marks do not depend on the
+/// Traces a checked scan into `marks` (untouched on entry), in two phases over shared
+/// marks: first every crossed voxel is marked free (in parallel), then every hit voxel is
+/// marked hit. Each phase only ever stores one constant value, so the marks do not depend on the
 /// order in which rays or threads store, and hits overwrite passes as OctoMap's update
 /// does.
 fn trace_scan(
@@ -343,37 +343,39 @@ fn trace_scan(
     points: &[Point3<f64>],
     max_range: f64,
 ) -> Traced {
-    let passes = by_task(origins, points, |os, ps| {
+    // Passes in parallel; each task also lists its rays' hit voxels and counts.
+    let tasks = by_task(origins, points, |os, ps| {
         let mut touched = Vec::new();
-        for (o, p) in os.iter().zip(ps) {
-            trace_ray(geometry, o, p, max_range, marks, &mut touched);
-        }
-        touched
-    });
-    let hits = by_task(origins, points, |os, ps| {
+        let mut hits = Vec::new();
         let (mut truncated, mut outside) = (0usize, 0usize);
-        let mut touched = Vec::new();
         for (o, p) in os.iter().zip(ps) {
-            if (p - o).norm() > max_range {
+            let dist = trace_ray(geometry, o, p, max_range, marks, &mut touched);
+            if dist > max_range {
                 truncated += 1;
             } else if let Some(h) = geometry.voxel_of(p).and_then(|v| geometry.linear(v)) {
-                marks.hit(h, &mut touched);
+                hits.push(h as u32);
             } else {
                 outside += 1;
             }
         }
-        (touched, truncated, outside)
+        (touched, hits, truncated, outside)
     });
+    // Then the hits, after every pass (a few per ray: one thread is enough).
     let mut traced = Traced {
-        touched: passes,
+        touched: Vec::with_capacity(tasks.len() + 1),
         truncated: 0,
         hits_outside: 0,
     };
-    for (touched, t, o) in hits {
+    let mut hit_touched = Vec::new();
+    for (touched, hits, t, o) in tasks {
+        for h in hits {
+            marks.hit(h as usize, &mut hit_touched);
+        }
         traced.touched.push(touched);
         traced.truncated += t;
         traced.hits_outside += o;
     }
+    traced.touched.push(hit_touched);
     traced
 }
 
@@ -395,7 +397,8 @@ fn by_task<T: Send>(
 }
 
 /// Marks the voxels a ray crosses, up to `max_range`, as free (its hit voxel too: the hit
-/// phase overwrites it), listing the ones it marked first in `touched`.
+/// phase overwrites it), listing the ones it marked first in `touched`; returns the ray's
+/// length.
 fn trace_ray(
     g: &GridGeometry,
     o: &Point3<f64>,
@@ -403,7 +406,7 @@ fn trace_ray(
     max_range: f64,
     marks: &ScanMarks,
     touched: &mut Vec<u32>,
-) {
+) -> f64 {
     let r = p - o;
     let dist = r.norm();
     if dist > 0.0 {
@@ -412,6 +415,7 @@ fn trace_ray(
             traversal.for_each_linear(|l| marks.pass(l, touched));
         }
     }
+    dist
 }
 
 #[cfg(test)]

@@ -75,6 +75,7 @@ pub struct VoxelTraversal {
 impl VoxelTraversal {
     /// See [`GridGeometry::traverse`]. Errors for a non-finite origin, a zero or non-finite
     /// direction, or a negative or NaN `max_distance` (`f64::INFINITY` means unbounded).
+    #[inline]
     pub fn new(
         grid: &GridGeometry,
         origin: &Point3<f64>,
