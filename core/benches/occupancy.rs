@@ -1,6 +1,7 @@
 //! Occupancy benchmarks at the paper's scale: one 55K-ray mid-range sweep into the
-//! 60×70×30 grid of 2 cm voxels, the reduced map of the result, raw DDA traversal, and the
-//! whole of phase 1 (segmentation, grid, reduced map) on the same cloud.
+//! 60×70×30 grid of 2 cm voxels (as one scan, and as 275 scans of one line each), the
+//! reduced map of the result, raw DDA traversal, and the whole of phase 1 (segmentation,
+//! grid, reduced map) on the same cloud.
 //!
 //! The scene is synthetic and analytic: a floor/table plane at z = 0.25 m with boxes on it,
 //! swept by a line scanner (275 lines × 200 rays, 70° fan) moving along y about 1 m above.
@@ -68,6 +69,29 @@ fn benches(c: &mut Criterion) {
     c.bench_function("grid_update/paper_55k_rays_1_thread", |b| {
         b.iter(|| black_box(update(Some(&one))))
     });
+    // OctoMap's way of feeding a sweep: one scan per scan line (275 calls of 200 rays).
+    let lines = scan_lines(&origins);
+    let per_line = |pool: Option<&rayon::ThreadPool>| {
+        let mut grid = OccupancyGrid::new(geometry, OccupancyParams::default()).unwrap();
+        let mut run = || {
+            for r in &lines {
+                grid.insert_rays(&origins[r.clone()], &points[r.clone()], 3.0)
+                    .unwrap();
+            }
+        };
+        match pool {
+            Some(p) => p.install(run),
+            None => run(),
+        }
+        grid
+    };
+    assert_eq!(lines.len(), 275);
+    c.bench_function("grid_update/paper_275_lines", |b| {
+        b.iter(|| black_box(per_line(None)))
+    });
+    c.bench_function("grid_update/paper_275_lines_1_thread", |b| {
+        b.iter(|| black_box(per_line(Some(&one))))
+    });
     c.bench_function("reduced_map/paper_126k_voxels", |b| {
         b.iter(|| black_box(ReducedMap::from_grid(black_box(&grid))))
     });
@@ -80,6 +104,19 @@ fn benches(c: &mut Criterion) {
             black_box(n)
         })
     });
+}
+
+/// Index ranges of consecutive rays that share an origin (one per scan line).
+fn scan_lines(origins: &[Point3<f64>]) -> Vec<std::ops::Range<usize>> {
+    let mut out = Vec::new();
+    let mut start = 0;
+    for i in 1..=origins.len() {
+        if i == origins.len() || origins[i] != origins[start] {
+            out.push(start..i);
+            start = i;
+        }
+    }
+    out
 }
 
 /// The whole of phase 1 (segmentation with the default parameters, grid, reduced map) on

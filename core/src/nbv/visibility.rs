@@ -147,19 +147,22 @@ pub fn first_hit(
     // Walk a little beyond max_distance: a voxel entered at exactly max_distance is crossed
     // over a positive length only past it.
     let limit = max_distance + map.geometry().resolution();
-    for c in map.geometry().traverse(origin, direction, limit)? {
-        if c.t_enter > max_distance {
-            break;
-        }
-        if let Some(state) = map.state(c.linear) {
-            return Ok(Some(RayHit {
-                linear: c.linear,
-                state,
-                distance: c.t_enter,
-            }));
-        }
-    }
-    Ok(None)
+    let hit = map
+        .geometry()
+        .traverse(origin, direction, limit)?
+        .find_map_linear(|linear, t_enter| {
+            if t_enter > max_distance {
+                return Some(None);
+            }
+            map.state(linear).map(|state| {
+                Some(RayHit {
+                    linear,
+                    state,
+                    distance: t_enter,
+                })
+            })
+        });
+    Ok(hit.flatten())
 }
 
 /// O_v by DDA through the dense lattice (the fast form; see the module doc).

@@ -155,7 +155,7 @@ impl GridGeometry {
     pub fn voxel_of(&self, p: &Point3<f64>) -> Option<VoxelIndex> {
         let mut idx = [0usize; 3];
         for a in 0..3 {
-            let f = ((p[a] - self.min[a]) / self.resolution).floor();
+            let f = lattice_floor((p[a] - self.min[a]) / self.resolution);
             if !(f >= 0.0 && f < self.dims[a] as f64) {
                 return None;
             }
@@ -232,6 +232,20 @@ impl GridGeometry {
     }
 }
 
+/// `x.floor()`, bit for bit, without a call into libm for the lattice coordinates of
+/// ordinary magnitude (the default x86-64 target has no rounding instruction, and the grid
+/// update floors three coordinates per ray): below 2^52 in magnitude the truncation by an
+/// integer conversion is exact; larger, infinite or NaN values go to `f64::floor`.
+#[inline]
+pub(crate) fn lattice_floor(x: f64) -> f64 {
+    if x.abs() < 4_503_599_627_370_496.0 {
+        let t = x as i64 as f64;
+        if t > x { t - 1.0 } else { t.copysign(x) }
+    } else {
+        x.floor()
+    }
+}
+
 fn check_resolution(resolution: f64) -> Result<(), OccupancyError> {
     if resolution.is_finite() && resolution > 0.0 {
         Ok(())
@@ -250,6 +264,15 @@ mod tests {
 
     fn unit() -> GridGeometry {
         GridGeometry::from_dims(Point3::new(-1.0, -1.0, 0.0), 0.25, [8, 4, 2]).unwrap()
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn lattice_floor_is_floor(x in proptest::num::f64::ANY, k in -1000i64..1000, e in -60i32..60) {
+            for v in [x, k as f64, k as f64 / 64.0, x * 2f64.powi(e), -0.0, 4_503_599_627_370_495.5] {
+                proptest::prop_assert_eq!(lattice_floor(v).to_bits(), v.floor().to_bits());
+            }
+        }
     }
 
     #[test]

@@ -5,7 +5,8 @@
 //! - [`VoxelTraversal`]: 3-D DDA (Amanatides–Woo) clipped to the grid, reusable for
 //!   next-best-view visibility;
 //! - [`OccupancyParams`], [`VoxelState`]: the log-odds ray model and the states by ε_o;
-//! - [`OccupancyGrid`]: dense f32 log-odds, per-scan ray updates (parallel, deterministic);
+//! - [`OccupancyGrid`]: dense f32 log-odds, per-scan ray updates (parallel, deterministic,
+//!   touching only the voxels a scan reaches: see [`OccupancyGrid::insert_rays`]);
 //! - [`ReducedMap`]: occupied voxels plus the unknown crust, with statistics;
 //! - the binary grid file format (see [`OccupancyGrid::write_to`]).
 //!
@@ -41,6 +42,7 @@ mod log_odds;
 mod occupancy_error;
 mod occupancy_grid;
 mod reduced_map;
+mod scan_marks;
 mod voxel_traversal;
 
 pub use grid_file::{GRID_FILE_MAGIC, GRID_FILE_VERSION, GridFileError};

@@ -3,21 +3,16 @@
 
 use nalgebra::Point3;
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicU8, Ordering};
 
 use super::OccupancyError;
 use super::grid_geometry::{GridGeometry, VoxelIndex};
 use super::log_odds::{OccupancyParams, VoxelState, probability};
+use super::scan_marks::{MARK_FREE, MARK_HIT, ScanMarks};
 use super::voxel_traversal::VoxelTraversal;
 use crate::cloud::PointCloud;
 
 /// Rays handed to one rayon task during a scan update.
 const RAYS_PER_TASK: usize = 1024;
-
-/// Voxel marks of a scan: 0 untouched, 1 free (passed), 2 occupied (hit). A voxel's scan
-/// mark is the maximum over rays, so a hit wins over a pass whatever the order.
-const MARK_FREE: u8 = 1;
-const MARK_HIT: u8 = 2;
 
 /// The voxels one scan changes: disjoint, ascending linear indices.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -60,7 +55,10 @@ pub struct ScanUpdate {
 /// Rays are traced in parallel (rayon, chunks of rays) into one shared array of marks, in
 /// two passes — every crossed voxel is marked free, then every hit voxel is marked hit —
 /// each storing a single constant value, so the result is the same for any thread count
-/// or order.
+/// or order. The marks are kept with the grid, all untouched between scans, and each task
+/// lists the voxels it marked first: applying a scan and clearing its marks costs the
+/// voxels the scan touched, not the grid, so many small scans (one per scan line, as
+/// OctoMap is fed) cost what their rays cost.
 ///
 /// ```
 /// use nbv_core::occupancy::{GridGeometry, OccupancyGrid, OccupancyParams, VoxelState};
@@ -75,11 +73,30 @@ pub struct ScanUpdate {
 /// assert_eq!(grid.state([4, 0, 0]), Some(VoxelState::Empty));
 /// assert_eq!(grid.state([6, 0, 0]), Some(VoxelState::Unknown));
 /// ```
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct OccupancyGrid {
     geometry: GridGeometry,
     params: OccupancyParams,
     log_odds: Vec<f32>,
+    /// Scratch of the scan updates (all untouched between calls; not part of the map).
+    marks: ScanMarks,
+}
+
+/// Two grids are equal when their lattices, parameters and log-odds are.
+impl PartialEq for OccupancyGrid {
+    fn eq(&self, other: &Self) -> bool {
+        self.geometry == other.geometry
+            && self.params == other.params
+            && self.log_odds == other.log_odds
+    }
+}
+
+/// What tracing a scan left: the lists of touched voxels (one per task, maybe with a few
+/// repeats from racing threads) and the ray counters.
+struct Traced {
+    touched: Vec<Vec<u32>>,
+    truncated: usize,
+    hits_outside: usize,
 }
 
 /// Numbers of voxels per state.
@@ -101,6 +118,7 @@ impl OccupancyGrid {
             log_odds: vec![0.0; geometry.len()],
             geometry,
             params,
+            marks: ScanMarks::default(),
         })
     }
 
@@ -124,6 +142,7 @@ impl OccupancyGrid {
             geometry,
             params,
             log_odds,
+            marks: ScanMarks::default(),
         })
     }
 
@@ -191,47 +210,66 @@ impl OccupancyGrid {
         points: &[Point3<f64>],
         max_range: f64,
     ) -> Result<(ScanVoxels, ScanUpdate), OccupancyError> {
-        let (marks, mut update) = self.mark_scan(origins, points, max_range)?;
+        check_scan(origins, points, max_range)?;
+        let mut marks = ScanMarks::new(self.geometry.len());
+        let traced = trace_scan(&self.geometry, &marks, origins, points, max_range);
         let mut voxels = ScanVoxels::default();
-        for (l, &m) in marks.iter().enumerate() {
-            match m {
+        for &l in traced.touched.iter().flatten() {
+            let l = l as usize;
+            match marks.take(l) {
                 MARK_HIT => voxels.occupied.push(l),
                 MARK_FREE => voxels.free.push(l),
                 _ => {}
             }
         }
-        update.occupied = voxels.occupied.len();
-        update.free = voxels.free.len();
+        voxels.occupied.sort_unstable();
+        voxels.free.sort_unstable();
+        let update = ScanUpdate {
+            rays: points.len(),
+            occupied: voxels.occupied.len(),
+            free: voxels.free.len(),
+            truncated: traced.truncated,
+            hits_outside: traced.hits_outside,
+        };
         Ok((voxels, update))
     }
 
-    /// Applies one scan of rays `origins[i] → points[i]`.
+    /// Applies one scan of rays `origins[i] → points[i]`. Costs the scan's voxel steps;
+    /// only the voxels the scan touches are read or written.
     pub fn insert_rays(
         &mut self,
         origins: &[Point3<f64>],
         points: &[Point3<f64>],
         max_range: f64,
     ) -> Result<ScanUpdate, OccupancyError> {
-        let (marks, mut update) = self.mark_scan(origins, points, max_range)?;
+        check_scan(origins, points, max_range)?;
+        self.marks.ensure_len(self.geometry.len());
+        let traced = trace_scan(&self.geometry, &self.marks, origins, points, max_range);
         let params = self.params;
-        let (occupied, free) = self
-            .log_odds
-            .par_iter_mut()
-            .zip(marks.par_iter())
-            .map(|(o, &m)| match m {
+        let mut update = ScanUpdate {
+            rays: points.len(),
+            truncated: traced.truncated,
+            hits_outside: traced.hits_outside,
+            ..ScanUpdate::default()
+        };
+        // Each touched voxel is updated once: its first take returns its mark, a repeat
+        // finds it untouched. The order of the updates does not matter. (`u` once: the
+        // same values as `after_hit` and `after_pass`, without a logarithm per voxel.)
+        let (u, lo, hi) = (params.hit_log_odds(), params.clamp_min, params.clamp_max);
+        for &l in traced.touched.iter().flatten() {
+            let l = l as usize;
+            match self.marks.take(l) {
                 MARK_HIT => {
-                    *o = params.after_hit(*o);
-                    (1, 0)
+                    self.log_odds[l] = (self.log_odds[l] + u).clamp(lo, hi);
+                    update.occupied += 1;
                 }
                 MARK_FREE => {
-                    *o = params.after_pass(*o);
-                    (0, 1)
+                    self.log_odds[l] = (self.log_odds[l] - u).clamp(lo, hi);
+                    update.free += 1;
                 }
-                _ => (0, 0),
-            })
-            .reduce(|| (0usize, 0usize), |a, b| (a.0 + b.0, a.1 + b.1));
-        update.occupied = occupied;
-        update.free = free;
+                _ => {}
+            }
+        }
         Ok(update)
     }
 
@@ -259,113 +297,125 @@ impl OccupancyGrid {
         let origins = vec![*origin; points.len()];
         self.insert_rays(&origins, points, max_range)
     }
+}
 
-    /// Traces the scan: one mark per voxel, and the ray counters.
-    fn mark_scan(
-        &self,
-        origins: &[Point3<f64>],
-        points: &[Point3<f64>],
-        max_range: f64,
-    ) -> Result<(Vec<u8>, ScanUpdate), OccupancyError> {
-        if origins.len() != points.len() {
-            return Err(OccupancyError::LengthMismatch {
-                origins: origins.len(),
-                points: points.len(),
+/// Checks a scan's arguments: as many origins as points, every coordinate finite,
+/// `max_range` > 0.
+fn check_scan(
+    origins: &[Point3<f64>],
+    points: &[Point3<f64>],
+    max_range: f64,
+) -> Result<(), OccupancyError> {
+    if origins.len() != points.len() {
+        return Err(OccupancyError::LengthMismatch {
+            origins: origins.len(),
+            points: points.len(),
+        });
+    }
+    if max_range.is_nan() || max_range <= 0.0 {
+        return Err(OccupancyError::InvalidParameter {
+            name: "max_range",
+            value: max_range,
+            reason: "must be > 0 (infinity for no limit)",
+        });
+    }
+    let finite = |p: &Point3<f64>| p.x.is_finite() && p.y.is_finite() && p.z.is_finite();
+    for (index, (o, p)) in origins.iter().zip(points).enumerate() {
+        if !finite(o) || !finite(p) {
+            return Err(OccupancyError::InvalidRay {
+                index,
+                reason: "origin or end point is not finite",
             });
         }
-        if max_range.is_nan() || max_range <= 0.0 {
-            return Err(OccupancyError::InvalidParameter {
-                name: "max_range",
-                value: max_range,
-                reason: "must be > 0 (infinity for no limit)",
-            });
-        }
-        let finite = |p: &Point3<f64>| p.x.is_finite() && p.y.is_finite() && p.z.is_finite();
-        for (index, (o, p)) in origins.iter().zip(points).enumerate() {
-            if !finite(o) || !finite(p) {
-                return Err(OccupancyError::InvalidRay {
-                    index,
-                    reason: "origin or end point is not finite",
-                });
+    }
+    Ok(())
+}
+
+/// Traces a checked scan into `marks` (untouched on entry), in two phases over shared
+/// marks: first every crossed voxel is marked free (in parallel), then every hit voxel is
+/// marked hit. Each phase only ever stores one constant value, so the marks do not depend on the
+/// order in which rays or threads store, and hits overwrite passes as OctoMap's update
+/// does.
+fn trace_scan(
+    geometry: &GridGeometry,
+    marks: &ScanMarks,
+    origins: &[Point3<f64>],
+    points: &[Point3<f64>],
+    max_range: f64,
+) -> Traced {
+    // Passes in parallel; each task also lists its rays' hit voxels and counts.
+    let tasks = by_task(origins, points, |os, ps| {
+        let mut touched = Vec::new();
+        let mut hits = Vec::new();
+        let (mut truncated, mut outside) = (0usize, 0usize);
+        for (o, p) in os.iter().zip(ps) {
+            let dist = trace_ray(geometry, o, p, max_range, marks, &mut touched);
+            if dist > max_range {
+                truncated += 1;
+            } else if let Some(h) = geometry.voxel_of(p).and_then(|v| geometry.linear(v)) {
+                hits.push(h as u32);
+            } else {
+                outside += 1;
             }
         }
-        // Two passes over shared marks: first every crossed voxel is marked free, then
-        // every hit voxel is marked hit. Each pass only ever stores one constant value, so
-        // the order in which rays or threads store does not matter, and hits overwrite
-        // passes as OctoMap's update does: the result is the per-voxel maximum of the
-        // old per-task arrays, without an array per task or their merge.
-        let geometry = &self.geometry;
-        let marks: Vec<AtomicU8> = std::iter::repeat_with(|| AtomicU8::new(0))
-            .take(geometry.len())
-            .collect();
-        let (truncated, hits_outside) = origins
-            .par_chunks(RAYS_PER_TASK)
-            .zip(points.par_chunks(RAYS_PER_TASK))
-            .map(|(os, ps)| {
-                let (mut truncated, mut outside) = (0usize, 0usize);
-                for (o, p) in os.iter().zip(ps) {
-                    let (t, o2) = trace_ray(geometry, o, p, max_range, &marks);
-                    truncated += t;
-                    outside += o2;
-                }
-                (truncated, outside)
-            })
-            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
-        origins
-            .par_chunks(RAYS_PER_TASK)
-            .zip(points.par_chunks(RAYS_PER_TASK))
-            .for_each(|(os, ps)| {
-                for (o, p) in os.iter().zip(ps) {
-                    if let Some(h) = hit_voxel(geometry, o, p, max_range) {
-                        marks[h].store(MARK_HIT, Ordering::Relaxed);
-                    }
-                }
-            });
-        let marks: Vec<u8> = marks.into_iter().map(AtomicU8::into_inner).collect();
-        Ok((
-            marks,
-            ScanUpdate {
-                rays: points.len(),
-                truncated,
-                hits_outside,
-                ..ScanUpdate::default()
-            },
-        ))
+        (touched, hits, truncated, outside)
+    });
+    // Then the hits, after every pass (a few per ray: one thread is enough).
+    let mut traced = Traced {
+        touched: Vec::with_capacity(tasks.len() + 1),
+        truncated: 0,
+        hits_outside: 0,
+    };
+    let mut hit_touched = Vec::new();
+    for (touched, hits, t, o) in tasks {
+        for h in hits {
+            marks.hit(h as usize, &mut hit_touched);
+        }
+        traced.touched.push(touched);
+        traced.truncated += t;
+        traced.hits_outside += o;
     }
+    traced.touched.push(hit_touched);
+    traced
 }
 
-/// The voxel a ray's end point hits: `None` when the ray is longer than `max_range` or
-/// ends outside the grid.
-fn hit_voxel(g: &GridGeometry, o: &Point3<f64>, p: &Point3<f64>, max_range: f64) -> Option<usize> {
-    if (p - o).norm() > max_range {
-        return None;
+/// `task` over chunks of [`RAYS_PER_TASK`] rays, in parallel, results in chunk order; a
+/// scan of one chunk (a scan line) runs on the calling thread.
+fn by_task<T: Send>(
+    origins: &[Point3<f64>],
+    points: &[Point3<f64>],
+    task: impl Fn(&[Point3<f64>], &[Point3<f64>]) -> T + Sync,
+) -> Vec<T> {
+    if origins.len() <= RAYS_PER_TASK {
+        return vec![task(origins, points)];
     }
-    g.voxel_of(p).and_then(|v| g.linear(v))
+    origins
+        .par_chunks(RAYS_PER_TASK)
+        .zip(points.par_chunks(RAYS_PER_TASK))
+        .map(|(os, ps)| task(os, ps))
+        .collect()
 }
 
-/// Marks the voxels a ray crosses as free (its hit voxel too: the hit pass overwrites
-/// it); returns (truncated, hit outside the grid) as 0/1 counters.
+/// Marks the voxels a ray crosses, up to `max_range`, as free (its hit voxel too: the hit
+/// phase overwrites it), listing the ones it marked first in `touched`; returns the ray's
+/// length.
 fn trace_ray(
     g: &GridGeometry,
     o: &Point3<f64>,
     p: &Point3<f64>,
     max_range: f64,
-    marks: &[AtomicU8],
-) -> (usize, usize) {
+    marks: &ScanMarks,
+    touched: &mut Vec<u32>,
+) -> f64 {
     let r = p - o;
     let dist = r.norm();
-    let truncated = dist > max_range;
     if dist > 0.0 {
-        let reach = dist.min(max_range);
         // The direction is non-zero and finite: the traversal cannot fail.
-        if let Ok(traversal) = VoxelTraversal::new(g, o, &r, reach) {
-            for c in traversal {
-                marks[c.linear].store(MARK_FREE, Ordering::Relaxed);
-            }
+        if let Ok(traversal) = VoxelTraversal::new(g, o, &r, dist.min(max_range)) {
+            traversal.for_each_linear(|l| marks.pass(l, touched));
         }
     }
-    let outside = !truncated && g.voxel_of(p).is_none();
-    (usize::from(truncated), usize::from(outside))
+    dist
 }
 
 #[cfg(test)]
@@ -542,6 +592,144 @@ mod tests {
                 };
                 proptest::prop_assert_eq!(o, expected);
             }
+        }
+    }
+
+    /// A scan: origins and end points.
+    type Scan = (Vec<Point3<f64>>, Vec<Point3<f64>>);
+
+    /// The grid after `scans` by the definition: per scan, the hit set and the crossed set
+    /// from the iterator traversal, then one full pass over every voxel of the grid.
+    fn reference_scans(grid: &OccupancyGrid, scans: &[Scan], max_range: f64) -> Vec<f32> {
+        let g = *grid.geometry();
+        let params = *grid.params();
+        let mut values = grid.log_odds().to_vec();
+        for (origins, points) in scans {
+            let mut marks = vec![0u8; g.len()];
+            for (o, q) in origins.iter().zip(points) {
+                let dist = (q - o).norm();
+                if dist > 0.0 {
+                    for c in g.traverse(o, &(q - o), dist.min(max_range)).unwrap() {
+                        marks[c.linear] = MARK_FREE;
+                    }
+                }
+            }
+            for (o, q) in origins.iter().zip(points) {
+                if let Some(v) = g.voxel_of(q).filter(|_| (q - o).norm() <= max_range) {
+                    marks[g.linear(v).unwrap()] = MARK_HIT;
+                }
+            }
+            for (v, m) in values.iter_mut().zip(&marks) {
+                match *m {
+                    MARK_HIT => *v = params.after_hit(*v),
+                    MARK_FREE => *v = params.after_pass(*v),
+                    _ => {}
+                }
+            }
+        }
+        values
+    }
+
+    fn random_scan(seed: u64, rays: usize) -> Scan {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let origin = p(
+            rng.random_range(-1.0..3.0),
+            rng.random_range(-0.5..1.0),
+            0.9,
+        );
+        let mut origins = Vec::with_capacity(rays);
+        let mut points = Vec::with_capacity(rays);
+        for i in 0..rays {
+            // Lines of a few rays share an origin; some end on voxel faces (k/4 of 0.25).
+            let o = if i % 7 == 0 {
+                p(origin.x + 0.01 * i as f64, origin.y, origin.z)
+            } else {
+                origin
+            };
+            let q = if i % 5 == 0 {
+                p(
+                    rng.random_range(-4i32..12) as f64 / 16.0,
+                    rng.random_range(-2i32..8) as f64 / 16.0,
+                    0.0625,
+                )
+            } else {
+                p(
+                    rng.random_range(-0.5..2.5),
+                    rng.random_range(-0.2..0.7),
+                    rng.random_range(-0.2..0.7),
+                )
+            };
+            origins.push(o);
+            points.push(q);
+        }
+        (origins, points)
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(48))]
+
+        /// Scans applied one after another through the kept marks (touching only their own
+        /// voxels) equal the definition applied with a full pass per scan; a clone taken
+        /// between scans carries on the same; and the scans' order of rays does not matter.
+        #[test]
+        fn incremental_scans_equal_full_passes(
+            seeds in proptest::collection::vec((0u64..1_000_000, 1usize..60), 1..8),
+            max_range in 0.5f64..4.0,
+            split in 0usize..8,
+        ) {
+            let scans: Vec<_> = seeds.iter().map(|&(s, n)| random_scan(s, n)).collect();
+            let mut grid = line_grid();
+            let mut copy = None;
+            for (k, (o, q)) in scans.iter().enumerate() {
+                if k == split {
+                    copy = Some(grid.clone());
+                }
+                grid.insert_rays(o, q, max_range).unwrap();
+            }
+            let expected = reference_scans(&line_grid(), &scans, max_range);
+            proptest::prop_assert_eq!(grid.log_odds(), &expected[..]);
+            if let Some(mut copy) = copy {
+                for (o, q) in &scans[split..] {
+                    let (ro, rq): (Vec<_>, Vec<_>) = o.iter().rev().zip(q.iter().rev()).unzip();
+                    copy.insert_rays(&ro, &rq, max_range).unwrap();
+                }
+                proptest::prop_assert_eq!(copy.log_odds(), &expected[..]);
+            }
+        }
+    }
+
+    /// Scans of several tasks' rays, one after another, give the definition's grid on 1
+    /// and on 2 threads, and scan lines inserted one by one give the same grid on both.
+    #[test]
+    fn parallel_scans_equal_the_definition_at_any_thread_count() {
+        let scans: Vec<_> = (0..4)
+            .map(|s| random_scan(s, 3 * RAYS_PER_TASK + 17))
+            .collect();
+        let lines: Vec<_> = (10..60).map(|s| random_scan(s, 200)).collect();
+        let run = |threads: usize, scans: &[Scan]| {
+            let mut grid = line_grid();
+            let updates: Vec<ScanUpdate> = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| {
+                    scans
+                        .iter()
+                        .map(|(o, q)| grid.insert_rays(o, q, 2.5).unwrap())
+                        .collect()
+                });
+            (grid, updates)
+        };
+        for scans in [&scans, &lines] {
+            let (one, up1) = run(1, scans);
+            let (two, up2) = run(2, scans);
+            assert_eq!(
+                one.log_odds(),
+                &reference_scans(&line_grid(), scans, 2.5)[..]
+            );
+            assert_eq!(one, two);
+            assert_eq!(up1, up2);
         }
     }
 

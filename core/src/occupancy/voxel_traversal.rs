@@ -7,7 +7,7 @@
 use nalgebra::{Point3, Vector3};
 
 use super::OccupancyError;
-use super::grid_geometry::{GridGeometry, VoxelIndex};
+use super::grid_geometry::{GridGeometry, VoxelIndex, lattice_floor};
 
 /// One voxel crossed by a ray: `t_enter ≤ t_exit` are distances (m) from the ray origin.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -75,6 +75,7 @@ pub struct VoxelTraversal {
 impl VoxelTraversal {
     /// See [`GridGeometry::traverse`]. Errors for a non-finite origin, a zero or non-finite
     /// direction, or a negative or NaN `max_distance` (`f64::INFINITY` means unbounded).
+    #[inline]
     pub fn new(
         grid: &GridGeometry,
         origin: &Point3<f64>,
@@ -135,7 +136,7 @@ impl VoxelTraversal {
         // Starting voxel: floor rule at the entry point, clamped against rounding.
         for a in 0..3 {
             let p = origin[a] + t0 * d[a];
-            let f = ((p - lo[a]) / res).floor();
+            let f = lattice_floor((p - lo[a]) / res);
             it.idx[a] = f.clamp(0.0, (dims[a] - 1) as f64) as i64;
             if it.step[a] != 0 {
                 it.t_next[a] = it.boundary(a);
@@ -165,6 +166,135 @@ impl VoxelTraversal {
             self.idx[a]
         };
         (self.min[a] + plane as f64 * self.resolution - self.origin[a]) * self.inv_dir[a]
+    }
+
+    /// Calls `f` with the linear index of every voxel the traversal has still to yield, in
+    /// order: exactly the voxels of iterating it (same boundary distances, same ties, same
+    /// end), without the crossing distances. This is the grid update's inner loop: the
+    /// linear index moves by a stride per axis and each axis counts the planes it has left,
+    /// so a step is one minimum, one comparison per axis and one boundary distance.
+    ///
+    /// ```
+    /// use nbv_core::occupancy::GridGeometry;
+    /// use nalgebra::{Point3, Vector3};
+    /// let g = GridGeometry::from_dims(Point3::origin(), 1.0, [4, 4, 1]).unwrap();
+    /// let (o, d) = (Point3::new(-1.0, -0.5, 0.5), Vector3::new(1.0, 0.7, 0.0));
+    /// let mut fast = Vec::new();
+    /// g.traverse(&o, &d, 10.0).unwrap().for_each_linear(|l| fast.push(l));
+    /// let slow: Vec<usize> = g.traverse(&o, &d, 10.0).unwrap().map(|c| c.linear).collect();
+    /// assert_eq!(fast, slow);
+    /// ```
+    #[inline]
+    pub fn for_each_linear(self, mut f: impl FnMut(usize)) {
+        self.find_map_linear(|l, _| -> Option<()> {
+            f(l);
+            None
+        });
+    }
+
+    /// Calls `f` with the linear index and the entry distance (`t_enter`) of every voxel
+    /// the traversal has still to yield, in order, until `f` returns `Some`; returns that.
+    /// The same voxels and distances as iterating, in the tight loop of
+    /// [`VoxelTraversal::for_each_linear`] (used by the next-best-view ray casting, which
+    /// stops at the first voxel of the reduced map).
+    ///
+    /// ```
+    /// use nbv_core::occupancy::GridGeometry;
+    /// use nalgebra::{Point3, Vector3};
+    /// let g = GridGeometry::from_dims(Point3::origin(), 1.0, [4, 4, 1]).unwrap();
+    /// let (o, d) = (Point3::new(-1.0, -0.5, 0.5), Vector3::new(1.0, 0.7, 0.0));
+    /// let third = g.traverse(&o, &d, 10.0).unwrap().nth(2).unwrap();
+    /// let mut k = 0;
+    /// let found = g.traverse(&o, &d, 10.0).unwrap().find_map_linear(|l, t| {
+    ///     k += 1;
+    ///     (k == 3).then_some((l, t))
+    /// });
+    /// assert_eq!(found, Some((third.linear, third.t_enter)));
+    /// ```
+    #[inline]
+    pub fn find_map_linear<B>(self, mut f: impl FnMut(usize, f64) -> Option<B>) -> Option<B> {
+        if self.done {
+            return None;
+        }
+        /// One axis of the walk: the linear stride of a step, the steps left inside the
+        /// grid, the index of the next boundary plane (as f64, exact) and its increment.
+        #[derive(Clone, Copy)]
+        struct Axis {
+            stride: isize,
+            left: i64,
+            plane: f64,
+            step: f64,
+        }
+        let strides = [1isize, self.nx as isize, self.nxy as isize];
+        let axis = |a: usize| match self.step[a] {
+            1 => Axis {
+                stride: strides[a],
+                left: self.dims[a] - 1 - self.idx[a],
+                plane: (self.idx[a] + 1) as f64,
+                step: 1.0,
+            },
+            -1 => Axis {
+                stride: -strides[a],
+                left: self.idx[a],
+                plane: self.idx[a] as f64,
+                step: -1.0,
+            },
+            _ => Axis {
+                stride: 0,
+                left: 0,
+                plane: 0.0,
+                step: 0.0,
+            },
+        };
+        let (mut x, mut y, mut z) = (axis(0), axis(1), axis(2));
+        let [mut tx, mut ty, mut tz] = self.t_next;
+        let (min, res, origin, inv) = (self.min, self.resolution, self.origin, self.inv_dir);
+        let t_end = self.t_end;
+        let mut lin =
+            self.idx[0] as usize + self.nx * self.idx[1] as usize + self.nxy * self.idx[2] as usize;
+        // The same expression as `boundary`: no accumulated increments.
+        let boundary = |a: usize, plane: f64| (min[a] + plane * res - origin[a]) * inv[a];
+        // No distance is NaN, so `<` picks the minimum as `f64::min` does.
+        let less = |a: f64, b: f64| if a < b { a } else { b };
+        let mut t_enter = self.t;
+        loop {
+            if let Some(b) = f(lin, t_enter) {
+                return Some(b);
+            }
+            let tn = less(less(tx, ty), tz);
+            if tn >= t_end {
+                return None;
+            }
+            t_enter = tn;
+            // Every axis whose next plane is at `tn` steps (ties step together).
+            if tx == tn {
+                if x.left == 0 {
+                    return None;
+                }
+                x.left -= 1;
+                lin = lin.wrapping_add_signed(x.stride);
+                x.plane += x.step;
+                tx = boundary(0, x.plane);
+            }
+            if ty == tn {
+                if y.left == 0 {
+                    return None;
+                }
+                y.left -= 1;
+                lin = lin.wrapping_add_signed(y.stride);
+                y.plane += y.step;
+                ty = boundary(1, y.plane);
+            }
+            if tz == tn {
+                if z.left == 0 {
+                    return None;
+                }
+                z.left -= 1;
+                lin = lin.wrapping_add_signed(z.stride);
+                z.plane += z.step;
+                tz = boundary(2, z.plane);
+            }
+        }
     }
 
     /// Distance where the ray enters the grid (or starts), and where it stops, if the
@@ -413,6 +543,50 @@ mod tests {
             let d = [d.0, d.1, d.2];
             prop_assume!(d.iter().map(|x| x * x).sum::<f64>() > 1e-4);
             agree(&grid(), [o.0, o.1, o.2], d, t_max)?;
+        }
+
+        #[test]
+        fn for_each_linear_equals_the_iterator(
+            o in (lattice_coord(), lattice_coord(), lattice_coord()),
+            d in (-2i32..=2, -2i32..=2, -2i32..=2),
+            r in (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0),
+            t_max in 0.0f64..4.0,
+            skip in 0usize..3,
+        ) {
+            // Lattice rays (ties on edges and corners) and the same rays bent off the lattice.
+            prop_assume!(d != (0, 0, 0));
+            let g = grid();
+            let o = Point3::new(o.0, o.1, o.2);
+            for dir in [
+                Vector3::new(d.0 as f64, d.1 as f64, d.2 as f64),
+                Vector3::new(d.0 as f64 + r.0 * 0.3, d.1 as f64 + r.1 * 0.3, d.2 as f64 + r.2 * 0.3),
+            ] {
+                prop_assume!(dir.norm() > 1e-3);
+                let slow: Vec<usize> = g.traverse(&o, &dir, t_max).unwrap().map(|c| c.linear).collect();
+                let mut fast = Vec::new();
+                g.traverse(&o, &dir, t_max).unwrap().for_each_linear(|l| fast.push(l));
+                prop_assert_eq!(&fast, &slow);
+                let slow_t: Vec<(usize, u64)> = g.traverse(&o, &dir, t_max).unwrap()
+                    .map(|c| (c.linear, c.t_enter.to_bits())).collect();
+                let mut fast_t = Vec::new();
+                let none = g.traverse(&o, &dir, t_max).unwrap().find_map_linear(|l, t| {
+                    fast_t.push((l, t.to_bits()));
+                    None::<()>
+                });
+                prop_assert_eq!(none, None);
+                prop_assert_eq!(&fast_t, &slow_t);
+                if let Some(&(l, t)) = slow_t.get(skip) {
+                    let found = g.traverse(&o, &dir, t_max).unwrap()
+                        .find_map_linear(|l2, t2| (l2 == l && t2.to_bits() == t).then_some(t2));
+                    prop_assert_eq!(found.map(f64::to_bits), Some(t));
+                }
+                // After part of the traversal has been iterated, the rest.
+                let mut it = g.traverse(&o, &dir, t_max).unwrap();
+                let head: Vec<usize> = it.by_ref().take(skip).map(|c| c.linear).collect();
+                let mut rest = Vec::new();
+                it.for_each_linear(|l| rest.push(l));
+                prop_assert_eq!([head, rest].concat(), slow);
+            }
         }
 
         #[test]
