@@ -1,15 +1,13 @@
 //! [`ExploreReport`]: what `nbv explore` writes to `report.json` — the exploration
 //! measured against the twin's ground truth.
 
-use anyhow::Result;
-use nalgebra::Vector3;
+use crate::error::Result;
+use crate::matching::{cluster_truth, true_object};
 use nbv_core::evaluation::{
     ModelQuality, alignment_error, model_quality, point_error, quality_samples, surface_coverage,
 };
 use nbv_core::math::Pose;
-use nbv_core::mesh::TriMesh;
-use nbv_core::pipeline::{Exploration, ExploreConfig, ObjectExploration, ObjectStop, StepTimes};
-use nbv_core::rig::TruthLabel;
+use nbv_core::pipeline::{Exploration, ExploreConfig, ObjectStop, StepTimes};
 use nbv_scenes::Scene;
 use serde::Serialize;
 
@@ -300,140 +298,6 @@ pub struct Totals {
     pub times: Times,
 }
 
-impl ExploreReport {
-    /// A few lines for the terminal.
-    pub fn summary(&self) -> String {
-        let mut s = format!(
-            "{} ({}, seed {}): {} points in phase 1, {} object(s), {} view(s), {} collision(s), \
-             mean F-score {:.1} (as acquired {:.1})\n",
-            self.scene,
-            self.mode,
-            self.seed,
-            self.phase_one.points,
-            self.objects.len(),
-            self.totals.views,
-            self.totals.collisions,
-            100.0 * self.totals.mean_f_score,
-            100.0 * self.totals.mean_f_score_unregistered
-        );
-        let pct = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:.1}", 100.0 * v));
-        for o in &self.objects {
-            let mm = |e: &Option<RegistrationScore>| {
-                e.as_ref().map_or("-".to_string(), |e| {
-                    let mark = if e.accepted { "" } else { "!" };
-                    format!("{:.1} mm{mark}", e.alignment * 1e3)
-                })
-            };
-            let q = o.quality.as_ref();
-            s += &format!(
-                "  {:<12} F {:>5}  P {:>5}  C {:>5}  chamfer {:>7}  as acquired F {:>5}  views {:>2}  failed {:>2}  alignment as acquired {:>7}  map {:>7}  p-icp-gpa {:>7}  icp {:>7}  ({})\n",
-                o.name,
-                pct(q.map(|q| q.f_score)),
-                pct(q.map(|q| q.precision)),
-                pct(q.map(|q| q.completeness)),
-                q.map_or("-".to_string(), |q| format!("{:.1} mm", q.chamfer * 1e3)),
-                pct(o.quality_unregistered.map(|q| q.f_score)),
-                o.views.len(),
-                o.viewpoints_failed.len(),
-                mm(&o.error_unregistered),
-                mm(&o.error_gpa),
-                mm(&o.error_pgpa),
-                mm(&o.error_icp),
-                o.stop
-            );
-        }
-        for o in self.objects.iter().filter(|o| o.truth != "object") {
-            s += &format!(
-                "  {} matches none of the scene's objects: {}\n",
-                o.name, o.truth
-            );
-        }
-        for v in &self.phase_one.slivers {
-            s += &format!(
-                "  dropped in phase 1: a sliver of {}'s face ({} points, {:.1} mm thick, {:.1} mm in front of its box)\n",
-                v.obstacle,
-                v.points,
-                v.thickness * 1e3,
-                v.distance * 1e3
-            );
-        }
-        if !self.missed_objects.is_empty() || !self.split_objects.is_empty() {
-            s += &format!(
-                "  missed: {}; split into several clusters: {}\n",
-                list_or_none(&self.missed_objects),
-                list_or_none(&self.split_objects)
-            );
-        }
-        if let Some(w) = &self.workcell_alignment {
-            s += &format!(
-                "  laser sweep aligned to the workcell: {} ({:.2}° and {:.1} mm, {} points on known surfaces, rms {:.1} mm)\n",
-                if w.accepted {
-                    "corrected"
-                } else {
-                    "NOT corrected"
-                },
-                w.rotation_deg,
-                w.translation * 1e3,
-                w.inliers,
-                w.rms * 1e3
-            );
-        }
-        if let Some(h) = &self.hand_eye {
-            let e = &h.estimate;
-            let deg = |v: [f64; 3]| v.map(f64::to_degrees);
-            let r = deg(e.rotation);
-            let mut line = format!(
-                "  hand-eye estimate from {} views: rotation [{:.2}, {:.2}, {:.2}]° translation [{:.1}, {:.1}, {:.1}] mm",
-                e.views,
-                r[0],
-                r[1],
-                r[2],
-                e.translation[0] * 1e3,
-                e.translation[1] * 1e3,
-                e.translation[2] * 1e3
-            );
-            if let (Some(t), Some(dr), Some(dt)) =
-                (h.truth, h.rotation_error_deg, h.translation_error)
-            {
-                line += &format!(
-                    "; injected [{:.2}, {:.2}, {:.2}]° [{:.1}, {:.1}, {:.1}] mm: off by {:.2}° and {:.1} mm",
-                    t[0].to_degrees(),
-                    t[1].to_degrees(),
-                    t[2].to_degrees(),
-                    t[3] * 1e3,
-                    t[4] * 1e3,
-                    t[5] * 1e3,
-                    dr,
-                    dt * 1e3
-                );
-            }
-            s += &line;
-            s += "\n";
-        }
-        s += &format!(
-            "  (F: F-score, the harmonic mean of P, the share of the model's points within \
-             {tau:.0} mm of the true surface, and C, the share of the true surface above the \
-             table within {tau:.0} mm of the model (its coverage); chamfer: mean of the mean \
-             distances model to surface and surface to model; as acquired: the views before \
-             registration)\n",
-            tau = QUALITY_TOLERANCE * 1e3
-        );
-        s += "  (alignment: mean displacement of the true points by each view's misalignment; \
-              map = the model's registration; ! = rejected (map: not converged or the \
-              objective did not fall; p-icp-gpa, icp: not converged or a correction beyond \
-              [registration] max_correction_*): the model keeps the reported poses)\n";
-        s
-    }
-}
-
-fn list_or_none(names: &[String]) -> String {
-    if names.is_empty() {
-        "none".into()
-    } else {
-        names.join(", ")
-    }
-}
-
 /// Measures `exploration` against the scene's truth.
 pub fn evaluate(
     scene: &Scene,
@@ -691,95 +555,6 @@ fn stop_text(stop: &ObjectStop) -> String {
         ObjectStop::NotAnObject { points } => format!(
             "dropped, not an object: its first short-range view has {points} point(s) where phase 1 put it"
         ),
-    }
-}
-
-/// The scene object most of the cluster's points hit (by the truth labels), if more than
-/// half of them hit that object.
-/// The scene object an explored object is: by the truth labels of its cluster when the rig
-/// gives them (the twin), else (real drivers, which know no truth) the object whose bounds,
-/// grown by [`BOUNDS_SLACK`], hold the cluster's centroid — the nearest such by centre.
-fn true_object(object: &ObjectExploration, scene: &Scene, meshes: &[TriMesh]) -> Option<usize> {
-    if object.cluster.labels.is_some() {
-        return true_object_of(&object.cluster, scene);
-    }
-    let points = &object.cluster.points;
-    if points.is_empty() {
-        return None;
-    }
-    let centroid = points.iter().fold(Vector3::zeros(), |a, p| a + p.coords) / points.len() as f64;
-    meshes
-        .iter()
-        .enumerate()
-        .filter_map(|(i, mesh)| {
-            let (lo, hi) = mesh.bounds()?;
-            let inside = (0..3).all(|k| {
-                centroid[k] >= lo[k] - BOUNDS_SLACK && centroid[k] <= hi[k] + BOUNDS_SLACK
-            });
-            inside.then(|| (i, (centroid - (lo.coords + hi.coords) * 0.5).norm()))
-        })
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .map(|(i, _)| i)
-}
-
-/// How far outside an object's bounds a cluster centroid may lie and still be that object
-/// (metres): the centroid of a partial view of a convex object lies inside its bounds.
-const BOUNDS_SLACK: f64 = 0.02;
-
-/// The scene object most of a cluster's points hit in truth (more than half of them).
-pub fn true_object_of(cluster: &nbv_core::cloud::PointCloud, scene: &Scene) -> Option<usize> {
-    let labels = cluster.labels.as_ref()?;
-    let mut counts = vec![0usize; scene.objects.len()];
-    for &l in labels {
-        if let Some(TruthLabel::Object(i)) = TruthLabel::from_code(l)
-            && let Some(c) = counts.get_mut(i as usize)
-        {
-            *c += 1;
-        }
-    }
-    let (best, n) = counts
-        .iter()
-        .enumerate()
-        .max_by_key(|(i, n)| (**n, usize::MAX - i))?;
-    (2 * n > labels.len()).then_some(best)
-}
-
-/// What a cluster is in truth (see [`ObjectEntry::truth`]): the scene object it was matched
-/// to, else the thing most of its points hit by the truth labels.
-fn cluster_truth(
-    cluster: &nbv_core::cloud::PointCloud,
-    scene: &Scene,
-    object: Option<usize>,
-) -> String {
-    if object.is_some() {
-        return "object".into();
-    }
-    let Some(labels) = cluster.labels.as_ref().filter(|l| !l.is_empty()) else {
-        return "unknown".into();
-    };
-    let mut counts = std::collections::BTreeMap::<u32, usize>::new();
-    for &l in labels {
-        *counts.entry(l).or_default() += 1;
-    }
-    let (code, n) = counts
-        .iter()
-        .max_by_key(|(c, n)| (**n, std::cmp::Reverse(**c)))
-        .map(|(c, n)| (*c, *n))
-        .unwrap_or_default();
-    if 2 * n <= labels.len() {
-        return "mixed".into();
-    }
-    match TruthLabel::from_code(code) {
-        Some(TruthLabel::Obstacle(k)) => scene.obstacles.get(k as usize).map_or_else(
-            || "obstacle".into(),
-            |o| {
-                let kind = if o.known { "known" } else { "unknown" };
-                format!("{kind} obstacle {}", o.name)
-            },
-        ),
-        Some(TruthLabel::Table) => "table".into(),
-        Some(TruthLabel::Robot) => "robot".into(),
-        Some(TruthLabel::Object(_)) | None => "mixed".into(),
     }
 }
 

@@ -2,8 +2,8 @@
 //! coverage over the first two swept parameters, and the coverage of each episode against
 //! its views per object.
 
-use super::sweep_results::EpisodeRow;
-use anyhow::{Result, anyhow};
+use crate::error::{Result, invalid};
+use crate::results::EpisodeRow;
 use plotters::prelude::*;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -28,7 +28,7 @@ pub fn write(dir: &Path, rows: &[EpisodeRow]) -> Result<Vec<String>> {
 
 fn save(path: &Path, svg: &str) -> Result<()> {
     nbv_scenes::paths::write_atomic(path, svg.as_bytes())
-        .map_err(|e| anyhow!("writing {}: {e}", path.display()))
+        .map_err(|e| invalid!("writing {}: {e}", path.display()))
 }
 
 /// Mean coverage per (first parameter, second parameter) cell; one row when only one
@@ -55,7 +55,7 @@ fn heatmap(rows: &[EpisodeRow]) -> Result<String> {
         cells.entry((xi, yi)).or_default().push(r.coverage);
     }
     let root = SVGBackend::with_string(&mut svg, (800, 600)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
+    root.fill(&WHITE).map_err(|e| invalid!("{e}"))?;
     let title = format!(
         "mean coverage over {x_key}{}",
         y_key.as_ref().map_or(String::new(), |y| format!(" x {y}"))
@@ -69,7 +69,7 @@ fn heatmap(rows: &[EpisodeRow]) -> Result<String> {
             (0..xs.len() as i32).into_segmented(),
             (0..ys.len() as i32).into_segmented(),
         )
-        .map_err(|e| anyhow!("{e}"))?;
+        .map_err(|e| invalid!("{e}"))?;
     let (xs_l, ys_l) = (xs.clone(), ys.clone());
     chart
         .configure_mesh()
@@ -79,7 +79,7 @@ fn heatmap(rows: &[EpisodeRow]) -> Result<String> {
         .x_label_formatter(&move |v| label_at(&xs_l, v))
         .y_label_formatter(&move |v| label_at(&ys_l, v))
         .draw()
-        .map_err(|e| anyhow!("{e}"))?;
+        .map_err(|e| invalid!("{e}"))?;
     for (&(xi, yi), v) in &cells {
         let c = v.iter().sum::<f64>() / v.len() as f64;
         let (x, y) = (xi as i32, yi as i32);
@@ -98,16 +98,16 @@ fn heatmap(rows: &[EpisodeRow]) -> Result<String> {
                 ],
                 colour.filled(),
             )))
-            .map_err(|e| anyhow!("{e}"))?;
+            .map_err(|e| invalid!("{e}"))?;
         chart
             .draw_series(std::iter::once(Text::new(
                 format!("{:.1}%", 100.0 * c),
                 (SegmentValue::CenterOf(x), SegmentValue::CenterOf(y)),
                 ("sans-serif", 16).into_font().color(&BLACK),
             )))
-            .map_err(|e| anyhow!("{e}"))?;
+            .map_err(|e| invalid!("{e}"))?;
     }
-    root.present().map_err(|e| anyhow!("{e}"))?;
+    root.present().map_err(|e| invalid!("{e}"))?;
     drop(chart);
     drop(root);
     Ok(svg)
@@ -136,27 +136,27 @@ fn scatter(rows: &[EpisodeRow]) -> Result<String> {
         .collect();
     let x_max = pts.iter().map(|p| p.0).fold(1.0, f64::max) * 1.1;
     let root = SVGBackend::with_string(&mut svg, (800, 600)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
+    root.fill(&WHITE).map_err(|e| invalid!("{e}"))?;
     let mut chart = ChartBuilder::on(&root)
         .caption("coverage against views", ("sans-serif", 20))
         .margin(20)
         .x_label_area_size(50)
         .y_label_area_size(60)
         .build_cartesian_2d(0f64..x_max, 0f64..100f64)
-        .map_err(|e| anyhow!("{e}"))?;
+        .map_err(|e| invalid!("{e}"))?;
     chart
         .configure_mesh()
         .x_desc("short-range views per object")
         .y_desc("mean surface coverage (%)")
         .draw()
-        .map_err(|e| anyhow!("{e}"))?;
+        .map_err(|e| invalid!("{e}"))?;
     chart
         .draw_series(
             pts.iter()
                 .map(|&p| Circle::new(p, 4, RGBColor(31, 119, 180).filled())),
         )
-        .map_err(|e| anyhow!("{e}"))?;
-    root.present().map_err(|e| anyhow!("{e}"))?;
+        .map_err(|e| invalid!("{e}"))?;
+    root.present().map_err(|e| invalid!("{e}"))?;
     drop(chart);
     drop(root);
     Ok(svg)
