@@ -12,10 +12,7 @@ use nbv_hw::rig_file::RigFile;
 fn robot() -> &'static Robot {
     static ROBOT: OnceLock<Robot> = OnceLock::new();
     ROBOT.get_or_init(|| {
-        Robot::from_urdf_file(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../assets/urdf/comau_smart_six.urdf"
-        ))
+        Robot::from_urdf_file(nbv_core::kinematics::COMAU_URDF)
         .expect("the Comau URDF loads")
     })
 }
