@@ -279,3 +279,71 @@ pub fn merge(inputs: &[PathBuf], out: &Path, gates: &[Gate]) -> Result<Finished>
     }
     finish(out, &grid, &rows, gates, None)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::results::tests::row;
+
+    /// Writes a shard directory of `grid_text` holding the rows of episodes `ks`.
+    fn shard_dir(root: &Path, grid_text: &str, shard: Shard, ks: &[usize]) -> PathBuf {
+        let grid = SweepGrid::parse(grid_text, Path::new("g.toml")).unwrap();
+        let episodes = grid.episodes();
+        let dir = root.join(format!("shard{}", shard.index));
+        std::fs::create_dir_all(dir.join("episodes")).unwrap();
+        let info = SweepInfo {
+            grid: "g.toml".into(),
+            grid_text: grid_text.into(),
+            episodes: grid.len(),
+            shard: Some(shard),
+        };
+        write_json(&dir.join("sweep.json"), &info).unwrap();
+        for &k in ks {
+            let mut r = row(k, "2.0", 0.8, 0.002);
+            r.id = episodes[k].id.clone();
+            write_json(&row_path(&dir, &episodes[k]), &r).unwrap();
+        }
+        dir
+    }
+
+    #[test]
+    fn merge_unions_shards_reports_the_missing_and_checks_gates() {
+        let tmp = tempfile::tempdir().unwrap();
+        let text = "scenes = [\"a\"]\nseeds = [1, 2, 3]\n";
+        // Shard 0/2 finished episode 0 but not 2; shard 1/2 finished episode 1.
+        let a = shard_dir(tmp.path(), text, Shard { index: 0, count: 2 }, &[0]);
+        let b = shard_dir(tmp.path(), text, Shard { index: 1, count: 2 }, &[1]);
+        let out = tmp.path().join("merged");
+        let gates: Vec<Gate> = vec![
+            "coverage>=0.5".parse().unwrap(),
+            "views<=3".parse().unwrap(),
+        ];
+        let f = merge(&[a.clone(), b.clone()], &out, &gates).unwrap();
+        assert_eq!(f.summary.episodes_expected, 3);
+        assert_eq!(f.summary.episodes_finished, 2);
+        assert_eq!(f.summary.missing, vec![2]);
+        assert_eq!(f.summary.aggregate.views, 4);
+        assert_eq!(
+            f.summary.gates.iter().map(|g| g.pass).collect::<Vec<_>>(),
+            [true, false]
+        );
+        assert!(!f.passed());
+        let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+        assert_eq!(csv.lines().count(), 3);
+        assert!(out.join("summary.json").exists());
+        assert_eq!(load_rows(std::slice::from_ref(&out)).unwrap().len(), 2);
+        // Merging the merge with a shard again adds nothing.
+        let again = merge(&[out.clone(), a], &tmp.path().join("again"), &[]).unwrap();
+        assert_eq!(again.summary.episodes_finished, 2);
+        assert!(again.passed());
+        // Shards of another grid are refused.
+        let other = shard_dir(
+            &tmp.path().join("other"),
+            "scenes = [\"b\"]\n",
+            Shard { index: 0, count: 1 },
+            &[],
+        );
+        let e = merge(&[b, other], &tmp.path().join("x"), &[]).unwrap_err();
+        assert!(e.to_string().contains("a sweep of another grid"), "{e}");
+    }
+}

@@ -647,10 +647,11 @@ pub fn registration_table(rows: &[EpisodeRow]) -> Vec<RegistrationLine> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn row(index: usize, alpha: &str, coverage: f64, gpa: f64) -> EpisodeRow {
+    /// A row of made-up metrics.
+    pub(crate) fn row(index: usize, alpha: &str, coverage: f64, gpa: f64) -> EpisodeRow {
         EpisodeRow {
             index,
             id: format!("{index:04}-0"),
