@@ -20,7 +20,7 @@ fn meshes() -> PathBuf {
 }
 
 fn real_urdf() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/urdf/comau_smart_six.urdf")
+    PathBuf::from(nbv_core::kinematics::COMAU_URDF)
 }
 
 /// A scene directory with a copy of the robot's URDF and a scene

@@ -1,4 +1,4 @@
-//! Kinematics of the Comau SMART SiX model (`assets/urdf/comau_smart_six.urdf`): forward
+//! Kinematics of the Comau SMART SiX model (`nbv_core::kinematics::COMAU_URDF`): forward
 //! kinematics to the flange, to every link at once, and closed-form IK (all solutions).
 //!
 //! Run with `cargo bench -p nbv-core --bench kinematics`.
@@ -7,10 +7,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use nbv_core::kinematics::{Joints, Robot};
 use std::hint::black_box;
 
-const ASSET: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../assets/urdf/comau_smart_six.urdf"
-);
+const ASSET: &str = nbv_core::kinematics::COMAU_URDF;
 
 fn kinematics(c: &mut Criterion) {
     let robot = Robot::from_urdf_file(ASSET).expect("the asset URDF loads");

@@ -25,6 +25,7 @@ use std::process::ExitCode;
 
 use nbv_core::cloud::io::{CloudIoError, WriteOptions, write_atomically, write_cloud};
 use nbv_core::math::Pose;
+use nbv_core::math::pose_file::poses_json;
 
 #[path = "../tests/registration_data/mod.rs"]
 mod registration_data;
@@ -109,22 +110,18 @@ fn run() -> Result<(), String> {
     Ok(())
 }
 
-/// Writes `{ name: [[row 0], [row 1], [row 2], [row 3]], ... }`.
+/// Writes the pose file of the views ([`nbv_core::math::pose_file::poses_json`]).
 fn write_poses(path: &Path, names: &[String], poses: &[Pose]) -> Result<(), String> {
-    let mut map = serde_json::Map::new();
-    for (name, pose) in names.iter().zip(poses) {
-        let m = pose.to_homogeneous();
-        let rows: Vec<Vec<f64>> = (0..4)
-            .map(|r| (0..4).map(|c| m[(r, c)]).collect())
-            .collect();
-        map.insert(name.clone(), serde_json::json!(rows));
-    }
-    write_json(path, &serde_json::Value::Object(map))
+    write_bytes(path, &poses_json(names, poses))
 }
 
 fn write_json(path: &Path, value: &serde_json::Value) -> Result<(), String> {
     let mut bytes = serde_json::to_vec_pretty(value).map_err(|e| e.to_string())?;
     bytes.push(b'\n');
-    write_atomically(path, |w| w.write_all(&bytes).map_err(CloudIoError::from))
+    write_bytes(path, &bytes)
+}
+
+fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    write_atomically(path, |w| w.write_all(bytes).map_err(CloudIoError::from))
         .map_err(|e| e.to_string())
 }

@@ -21,7 +21,10 @@ use nbv_core::mesh::io::{MeshIoError, obj_from_bytes, read_mesh, stl_from_bytes,
 use proptest::prelude::*;
 use proptest::sample::Index;
 
-const URDF: &str = include_str!("../../assets/urdf/comau_smart_six.urdf");
+/// The Comau URDF's text.
+static URDF: std::sync::LazyLock<String> = std::sync::LazyLock::new(|| {
+    std::fs::read_to_string(nbv_core::kinematics::COMAU_URDF).expect("the Comau URDF")
+});
 
 // ---------------------------------------------------------------------------------------
 // Damage to a valid file.
@@ -507,7 +510,7 @@ fn urdf_errors_name_the_file_and_item() {
         ),
     ];
     for (name, text, wanted) in cases {
-        assert_ne!(text, URDF, "{name}: the edit did not apply");
+        assert_ne!(text, *URDF, "{name}: the edit did not apply");
         let path = dir.path().join(name);
         std::fs::write(&path, &text).unwrap();
         let e = Robot::from_urdf_file(&path).unwrap_err().to_string();

@@ -11,13 +11,7 @@ use nbv_hw::rig_file::RigFile;
 
 fn robot() -> &'static Robot {
     static ROBOT: OnceLock<Robot> = OnceLock::new();
-    ROBOT.get_or_init(|| {
-        Robot::from_urdf_file(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../assets/urdf/comau_smart_six.urdf"
-        ))
-        .expect("the Comau URDF loads")
-    })
+    ROBOT.get_or_init(|| nbv_core::kinematics::comau_smart_six().expect("the Comau URDF loads"))
 }
 
 fuzz_target!(|data: &[u8]| {

@@ -376,11 +376,7 @@ mod tests {
 
     #[test]
     fn hand_eye_moves_the_sensor_frame_on_the_flange() {
-        let urdf = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../assets/urdf/comau_smart_six.urdf"
-        );
-        let mut robot = Robot::from_urdf_file(urdf).unwrap();
+        let mut robot = nbv_core::kinematics::comau_smart_six().unwrap();
         let text = format!(
             "{MINIMAL}[camera]\nhand_eye = {{ xyz = [0.01, 0.02, 0.15], rpy = [0.0, 0.1, 0.0] }}\n"
         );

@@ -209,11 +209,7 @@ fn a_normal_bye_is_not_a_stop() {
 
 #[test]
 fn the_controller_pose_is_the_flange_by_forward_kinematics() {
-    let urdf = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../assets/urdf/comau_smart_six.urdf"
-    );
-    let robot = Robot::from_urdf_file(urdf).unwrap();
+    let robot = nbv_core::kinematics::comau_smart_six().unwrap();
     let at = q([0.3, 0.2, -1.3, 0.4, 0.7, -0.2]);
     let expected = robot.fk(&at, "tool0").unwrap();
     let h = Harness::start_with(at, C4gFaults::default(), Some(robot));

@@ -42,11 +42,7 @@ fn parse(text: &str) -> Result<RigFile, RigFileError> {
 }
 
 fn robot() -> Robot {
-    Robot::from_urdf_file(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../assets/urdf/comau_smart_six.urdf"
-    ))
-    .unwrap()
+    nbv_core::kinematics::comau_smart_six().unwrap()
 }
 
 /// Parses and, if that works, mounts the sensors; every error must name the file.

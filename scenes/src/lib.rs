@@ -8,6 +8,8 @@
 //! - [`builtin`]: the paper's two environments, embedded.
 //! - [`generator`]: seeded random table-top scenes.
 //! - [`meshgen`]: the object meshes (jug, two bottles, mallet, horse, box).
+//! - [`overrides`]: a scene with dotted keys set (`--set`, a sweep's `[params]`), and a
+//!   scene by path or built-in name.
 //! - [`reachability`]: viewing-sphere viewpoints (eq. (3)) and the pluggable "is this
 //!   sensor pose reachable" test that `describe` and the generator use.
 //!
@@ -29,6 +31,7 @@ pub mod generator;
 pub mod mesh_distance;
 pub mod meshgen;
 mod nbv_params;
+pub mod overrides;
 pub mod paths;
 pub mod pipeline_params;
 pub mod placed;

@@ -146,7 +146,9 @@ fn structural_errors() {
     assert_eq!(invalid(&eps).0, "mapping.epsilon_o");
     let sweep = env1().replace(", [0.0, -40.0, -90.0, 0.0, 84.0, 0.0]]", "]");
     assert_eq!(invalid(&sweep).0, "sweep.waypoints_deg");
-    let urdf = env1().replace("comau_smart_six.urdf", "missing.urdf");
+    let asset = std::path::Path::new(nbv_core::kinematics::COMAU_URDF);
+    let file = asset.file_name().unwrap().to_str().unwrap();
+    let urdf = env1().replace(file, "missing.urdf");
     assert!(matches!(invalid(&urdf), (k, Problem::MissingFile(_)) if k == "robot.urdf"));
 }
 

@@ -9,7 +9,7 @@ use nbv_sim::world::{Contacted, StaticBody, StaticShape, TwinWorld};
 use std::path::PathBuf;
 
 fn urdf() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../assets/urdf/comau_smart_six.urdf")
+    PathBuf::from(nbv_core::kinematics::COMAU_URDF)
 }
 
 fn deg(q: [f64; 6]) -> Joints {

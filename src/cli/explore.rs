@@ -1,14 +1,14 @@
 //! `nbv explore`: the method end to end on a scene in the twin, with a report, the models,
 //! the map and pictures in an output directory.
 
-use super::explore_report::{ExploreReport, evaluate};
 use super::progress::ProgressObserver;
-use anyhow::{Context, Result, bail};
+use anyhow::Result;
+#[cfg(feature = "hw")]
+use anyhow::{Context, bail};
 use clap::{Args, ValueEnum};
-use nbv_core::cloud::io::{WriteOptions, write_cloud};
 use nbv_core::pipeline::ExploreMode;
-use nbv_sim::rig::SimRig;
-use std::path::{Path, PathBuf};
+use nbv_sweep::report::ExploreReport;
+use std::path::PathBuf;
 
 /// Arguments of `nbv explore`.
 #[derive(Debug, Args)]
@@ -42,7 +42,7 @@ pub struct ExploreArgs {
     /// Sets a scene parameter for this run: a dotted key of the scene file and a TOML
     /// value, e.g. `--set nbv.radius=0.45 --set nbv.gain_threshold=2.5` (repeatable; the
     /// keys a sweep's `[params]` takes).
-    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = super::scene::parse_override)]
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = nbv_scenes::overrides::parse_override)]
     pub set: Vec<(String, toml::Value)>,
     /// Skip the pictures.
     #[arg(long)]
@@ -97,38 +97,26 @@ impl From<Mode> for ExploreMode {
 
 /// Runs `nbv explore`.
 pub fn run(args: ExploreArgs) -> Result<()> {
-    let scene = super::scene::load_for_run(&args.scene, &args.set, args.seed)?;
+    let scene = nbv_scenes::overrides::load_for_run(&args.scene, &args.set, args.seed)?;
     let report = match args.backend {
-        Backend::Sim => run_episode(
-            &scene,
-            args.mode.into(),
-            &args.output,
-            !args.no_pictures,
-            args.quiet,
-        )?,
+        Backend::Sim => {
+            nbv_sweep::episode::check_output(&args.output)?;
+            let mut observer = ProgressObserver::new(args.quiet);
+            let (config, exploration) =
+                nbv_sweep::episode::explore_in_twin(&scene, args.mode.into(), &mut observer)?;
+            observer.finish();
+            nbv_sweep::episode::finish_episode(
+                &scene,
+                &config,
+                &exploration,
+                &args.output,
+                !args.no_pictures,
+            )?
+        }
         Backend::Hw => run_hw(&scene, &args)?,
     };
-    println!("{}", report.summary());
+    println!("{}", super::explore_summary::summary(&report));
     Ok(())
-}
-
-/// One exploration of `scene` in the twin, its outputs written into `out`.
-pub fn run_episode(
-    scene: &nbv_scenes::Scene,
-    mode: ExploreMode,
-    out: &Path,
-    pictures: bool,
-    quiet: bool,
-) -> Result<ExploreReport> {
-    if out.exists() && !out.is_dir() {
-        bail!("{}: exists and is not a directory", out.display());
-    }
-    let config = scene.explore_config(mode)?;
-    let mut rig = SimRig::from_scene(scene).context("building the twin")?;
-    let mut observer = ProgressObserver::new(quiet);
-    let exploration = rig.explore(&config, &mut observer)?;
-    observer.finish();
-    finish_episode(scene, &config, &exploration, out, pictures)
 }
 
 #[cfg(feature = "hw")]
@@ -144,78 +132,18 @@ fn run_hw(scene: &nbv_scenes::Scene, args: &ExploreArgs) -> Result<ExploreReport
     let mut observer = ProgressObserver::new(args.quiet);
     let exploration = super::hw_backend::explore(scene, &config, rig, args.emulate, &mut observer)?;
     observer.finish();
-    finish_episode(
+    Ok(nbv_sweep::episode::finish_episode(
         scene,
         &config,
         &exploration,
         &args.output,
         !args.no_pictures,
-    )
+    )?)
 }
 
 #[cfg(not(feature = "hw"))]
 fn run_hw(_: &nbv_scenes::Scene, _: &ExploreArgs) -> Result<ExploreReport> {
-    bail!(
+    anyhow::bail!(
         "--backend hw: this nbv was built without the real drivers; build it with `--features hw`"
     )
-}
-
-/// Evaluates an exploration against the scene's truth and writes the report, the models,
-/// the map and (if asked) the pictures into `out`.
-fn finish_episode(
-    scene: &nbv_scenes::Scene,
-    config: &nbv_core::pipeline::ExploreConfig,
-    exploration: &nbv_core::pipeline::Exploration,
-    out: &Path,
-    pictures: bool,
-) -> Result<ExploreReport> {
-    let report = evaluate(scene, config, exploration)?;
-    write_outputs(out, exploration, &report)?;
-    if pictures {
-        super::explore_pictures::write(out, scene, exploration, &report);
-    }
-    Ok(report)
-}
-
-fn write_outputs(
-    out: &Path,
-    exploration: &nbv_core::pipeline::Exploration,
-    report: &ExploreReport,
-) -> Result<()> {
-    if out.exists() && !out.is_dir() {
-        bail!("{}: exists and is not a directory", out.display());
-    }
-    std::fs::create_dir_all(out.join("map"))
-        .with_context(|| format!("creating {}", out.display()))?;
-    let opts = WriteOptions::default();
-    write_cloud(
-        out.join("mid_range.ply"),
-        &exploration.phase_one.cloud,
-        &opts,
-    )?;
-    write_grid(&out.join("map/grid.nbvgrid"), &exploration.phase_one.grid)?;
-    write_grid(&out.join("map/final.nbvgrid"), &exploration.grid)?;
-    for (object, entry) in exploration.objects.iter().zip(&report.objects) {
-        let dir = out.join("objects").join(&entry.name);
-        std::fs::create_dir_all(dir.join("views"))
-            .with_context(|| format!("creating {}", dir.display()))?;
-        write_cloud(dir.join("model.ply"), &object.model(), &opts)?;
-        write_cloud(dir.join("views/view_00.ply"), &object.cluster, &opts)?;
-        for (k, v) in object.views.iter().enumerate() {
-            write_cloud(
-                dir.join(format!("views/view_{:02}.ply", k + 1)),
-                &v.cloud,
-                &opts,
-            )?;
-        }
-    }
-    let json = serde_json::to_string_pretty(report)?;
-    nbv_scenes::paths::write_atomic(&out.join("report.json"), json.as_bytes())
-        .with_context(|| format!("writing {}", out.join("report.json").display()))?;
-    Ok(())
-}
-
-fn write_grid(path: &Path, grid: &nbv_core::occupancy::OccupancyGrid) -> Result<()> {
-    grid.save(path)
-        .with_context(|| format!("writing {}", path.display()))
 }

@@ -64,7 +64,7 @@ pub fn parse_xyz(s: &str) -> Result<Point3<f64>, String> {
 pub fn run(args: MapArgs) -> Result<()> {
     let (config, scene_name) = match &args.scene {
         Some(s) => {
-            let scene = super::scene::load(s)?;
+            let scene = nbv_scenes::overrides::load(s)?;
             let config = scene
                 .phase_one_config()
                 .with_context(|| format!("phase-1 parameters of {s}"))?;

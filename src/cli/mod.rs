@@ -1,8 +1,7 @@
 //! The subcommands of `nbv`, one module each.
 
 pub mod explore;
-pub mod explore_pictures;
-pub mod explore_report;
+pub mod explore_summary;
 #[cfg(feature = "hw")]
 pub mod hw_backend;
 pub mod map;
@@ -12,8 +11,4 @@ pub mod render;
 pub mod scan;
 pub mod scene;
 pub mod sweep;
-pub mod sweep_gate;
-pub mod sweep_grid;
-pub mod sweep_plots;
-pub mod sweep_results;
 pub mod views;

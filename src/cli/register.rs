@@ -4,13 +4,13 @@
 
 use anyhow::{Context, Result, anyhow, bail};
 use clap::{Args, ValueEnum};
-use nalgebra::{Isometry3, Matrix3, Matrix4, Rotation3, Translation3, UnitQuaternion};
 use nbv_core::cloud::PointCloud;
 use nbv_core::cloud::io::{
     CloudFormat, CloudIoError, WriteOptions, read_cloud_with, write_atomically, write_pcd,
     write_ply,
 };
 use nbv_core::math::Pose;
+use nbv_core::math::pose_file::{parse_poses, poses_json};
 use nbv_core::registration::{
     Method, MethodReport, PosePrior, RangeNoise, RegistrationParams, SetRule, ViewModel,
     register_with_models,
@@ -22,10 +22,6 @@ use std::time::Instant;
 
 /// Exit status when the registration ran but did not converge (outputs are written).
 pub const NOT_CONVERGED: u8 = 3;
-
-/// Largest deviation of a pose matrix from a rigid transform that is accepted (and then
-/// re-orthonormalised): 1e-6 on any entry.
-const RIGID_TOLERANCE: f64 = 1e-6;
 
 /// Arguments of `nbv register`.
 #[derive(Debug, Args)]
@@ -375,67 +371,7 @@ fn read_view(path: &Path) -> Result<PointCloud> {
 fn read_poses(path: &Path, names: &[String]) -> Result<Vec<Pose>> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("cannot read initial poses {}", path.display()))?;
-    let map: BTreeMap<String, serde_json::Value> =
-        serde_json::from_str(&text).with_context(|| {
-            format!(
-                "{}: expected a JSON object of file name -> 4x4 matrix",
-                path.display()
-            )
-        })?;
-    names
-        .iter()
-        .map(|name| {
-            let value = map
-                .get(name)
-                .ok_or_else(|| anyhow!("{}: no pose for view {name}", path.display()))?;
-            parse_matrix(value).with_context(|| format!("{}: pose of {name}", path.display()))
-        })
-        .collect()
-}
-
-/// A rigid transform from a 4×4 row-major JSON matrix.
-fn parse_matrix(value: &serde_json::Value) -> Result<Pose> {
-    let rows: Vec<Vec<f64>> = serde_json::from_value(value.clone())
-        .map_err(|_| anyhow!("expected 4 rows of 4 numbers"))?;
-    if rows.len() != 4 || rows.iter().any(|r| r.len() != 4) {
-        bail!("expected 4 rows of 4 numbers");
-    }
-    let m = Matrix4::from_fn(|r, c| rows[r][c]);
-    if !m.iter().all(|v| v.is_finite()) {
-        bail!("the matrix has a non-finite entry");
-    }
-    let bottom = [m[(3, 0)], m[(3, 1)], m[(3, 2)], m[(3, 3)]];
-    if bottom
-        .iter()
-        .zip([0.0, 0.0, 0.0, 1.0])
-        .any(|(v, want)| (v - want).abs() > RIGID_TOLERANCE)
-    {
-        bail!("the last row must be 0 0 0 1, got {bottom:?}");
-    }
-    let r: Matrix3<f64> = m.fixed_view::<3, 3>(0, 0).into_owned();
-    if (r.transpose() * r - Matrix3::identity()).amax() > RIGID_TOLERANCE
-        || (r.determinant() - 1.0).abs() > RIGID_TOLERANCE
-    {
-        bail!("the upper-left 3x3 block is not a rotation");
-    }
-    let rotation = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix(&r));
-    let t = Translation3::new(m[(0, 3)], m[(1, 3)], m[(2, 3)]);
-    Ok(Isometry3::from_parts(t, rotation))
-}
-
-/// `{ name: [[row 0], …, [row 3]], … }` in view order, pretty-printed.
-fn poses_json(names: &[String], poses: &[Pose]) -> Vec<u8> {
-    let mut map = serde_json::Map::new();
-    for (name, pose) in names.iter().zip(poses) {
-        let m = pose.to_homogeneous();
-        let rows: Vec<Vec<f64>> = (0..4)
-            .map(|r| (0..4).map(|c| m[(r, c)]).collect())
-            .collect();
-        map.insert(name.clone(), serde_json::json!(rows));
-    }
-    let mut bytes = serde_json::to_vec_pretty(&serde_json::Value::Object(map)).unwrap_or_default();
-    bytes.push(b'\n');
-    bytes
+    parse_poses(&text, names).with_context(|| path.display().to_string())
 }
 
 /// Adds the file after the first "view K" of a library message.

@@ -118,7 +118,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
             back,
             size,
         } => {
-            let s = super::scene::load(&scene)?;
+            let s = nbv_scenes::overrides::load(&scene)?;
             let items = scene_items(&s).with_context(|| format!("drawing {scene}"))?;
             let renderer = renderer()?;
             let cameras = fitted_front_and_back(&items, size.aspect());

@@ -8,7 +8,6 @@
 //! 0 table, 1 robot, 1000 + i obstacle i, 2000 + i object i) and its noise-free true
 //! point (`tx ty tz`). Nothing is written unless the whole acquisition succeeded.
 
-use super::scene::load;
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use nbv_core::cloud::PointCloud;
@@ -21,6 +20,7 @@ use nbv_core::rig::{
     DepthCamera, LineScanner, TruthLabel, acquire_sweep, depth_frame_to_cloud, lines_to_cloud,
     sensor_pose,
 };
+use nbv_scenes::overrides::load;
 use nbv_sim::rig::SimRig;
 use std::path::{Path, PathBuf};
 

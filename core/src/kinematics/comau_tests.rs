@@ -1,4 +1,4 @@
-//! Tests of the kinematics on the real asset `assets/urdf/comau_smart_six.urdf`: the
+//! Tests of the kinematics on the real asset ([`super::COMAU_URDF`]): the
 //! published geometry and sign conventions, FK∘IK properties, singular and unreachable
 //! poses, sensor frames, and typed errors for malformed URDF.
 
@@ -9,10 +9,7 @@ use proptest::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::sync::OnceLock;
 
-const ASSET: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../assets/urdf/comau_smart_six.urdf"
-);
+const ASSET: &str = crate::kinematics::COMAU_URDF;
 
 fn comau() -> &'static Robot {
     static ROBOT: OnceLock<Robot> = OnceLock::new();

@@ -5,7 +5,7 @@
 //! The entry point is [`Robot`]. Joint vectors are [`Joints`] (radians, J1..J6); poses are
 //! [`Pose`](crate::math::Pose)s in the URDF's root frame.
 //!
-//! # The Comau SMART SiX model (`assets/urdf/comau_smart_six.urdf`)
+//! # The Comau SMART SiX model ([`COMAU_URDF`])
 //!
 //! - Joint angles are Comau's native angles; J3 = -90° with the rest 0 is the calibration
 //!   pose (forearm horizontal along +x, all link frames parallel to `base_link`, wrist
@@ -18,6 +18,7 @@
 //!   `lms400` at (-0.080, 0, 0.140), its scan fan in its x-z plane, sweep along y;
 //!   `dinast` at (0.045, 0, 0.150). Each origin is the centre of the sensor's front window.
 
+mod comau_asset;
 mod ik_error;
 mod ik_solution;
 mod joints;
@@ -33,6 +34,7 @@ mod urdf_loader;
 #[cfg(test)]
 mod comau_tests;
 
+pub use comau_asset::{COMAU_URDF, comau_smart_six};
 pub use ik_error::{IkError, Unreachable};
 pub use ik_solution::{
     Branch, Elbow, IkSolution, SINGULARITY_MARGIN, Shoulder, Singularity, Wrist,

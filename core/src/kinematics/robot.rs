@@ -30,7 +30,7 @@ const POSE_TOLERANCE: f64 = 1e-10;
 ///
 /// ```
 /// use nbv_core::kinematics::{Joints, Robot};
-/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+/// let path = nbv_core::kinematics::COMAU_URDF;
 /// let robot = Robot::from_urdf_file(path)?;
 /// // Comau calibration pose: J3 = -90°, forearm horizontal.
 /// let q = Joints::new(0.0, 0.0, -std::f64::consts::FRAC_PI_2, 0.0, 0.0, 0.0);
@@ -133,7 +133,7 @@ impl Robot {
     /// Pose of `frame` in the base frame at joint angles `q` (`T_base_frame`).
     /// ```
     /// # use nbv_core::kinematics::{Joints, Robot};
-    /// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+    /// # let path = nbv_core::kinematics::COMAU_URDF;
     /// let robot = Robot::from_urdf_file(path)?;
     /// let q = Joints::new(0.0, 0.0, -std::f64::consts::FRAC_PI_2, 0.0, 0.0, 0.0);
     /// let tool0 = robot.fk(&q, "tool0")?;
@@ -154,7 +154,7 @@ impl Robot {
     /// Poses of every frame at `q`, in [`Robot::frame_names`] order.
     /// ```
     /// # use nbv_core::kinematics::{Joints, Robot};
-    /// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+    /// # let path = nbv_core::kinematics::COMAU_URDF;
     /// let robot = Robot::from_urdf_file(path)?;
     /// let poses = robot.link_poses(&Joints::zeros());
     /// let i = robot.frame_index("link_2").unwrap();
@@ -177,7 +177,7 @@ impl Robot {
     ///
     /// ```
     /// # use nbv_core::kinematics::Robot;
-    /// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+    /// # let path = nbv_core::kinematics::COMAU_URDF;
     /// let robot = Robot::from_urdf_file(path)?;
     /// assert_eq!(robot.body_of("link_2")?, 2);
     /// assert_eq!(robot.body_of("lms400")?, 6);
@@ -194,7 +194,7 @@ impl Robot {
     ///
     /// ```
     /// # use nbv_core::kinematics::{Joints, Robot};
-    /// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+    /// # let path = nbv_core::kinematics::COMAU_URDF;
     /// let robot = Robot::from_urdf_file(path)?;
     /// let axes = robot.joint_axes(&Joints::zeros());
     /// // J1 about -z through the origin; J2 about +y through (0.15, 0, 0.45).
@@ -215,9 +215,8 @@ impl Robot {
     /// view's sensor-frame pose error with it.
     ///
     /// ```
-    /// # use nbv_core::kinematics::{Joints, Robot};
-    /// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
-    /// let robot = Robot::from_urdf_file(path)?;
+    /// # use nbv_core::kinematics::Joints;
+    /// let robot = nbv_core::kinematics::comau_smart_six()?;
     /// let q = Joints::from([0.3, -0.2, 0.4, 0.1, 0.5, -0.3]);
     /// let j = robot.frame_jacobian(&q, "dinast")?;
     /// // Against a finite difference of the forward kinematics, joint 2.
@@ -267,7 +266,7 @@ impl Robot {
     ///
     /// ```
     /// # use nbv_core::kinematics::{Joints, Robot};
-    /// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+    /// # let path = nbv_core::kinematics::COMAU_URDF;
     /// let mut robot = Robot::from_urdf_file(path)?;
     /// let nominal = robot.frame_in_tip("dinast")?;
     /// let calibrated = nominal * nalgebra::Isometry3::translation(0.002, 0.0, -0.001);
@@ -313,7 +312,7 @@ impl Robot {
     /// reach, or every solution outside the limits). Never returns an empty list.
     /// ```
     /// # use nbv_core::kinematics::{Joints, Robot};
-    /// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+    /// # let path = nbv_core::kinematics::COMAU_URDF;
     /// let robot = Robot::from_urdf_file(path)?;
     /// use nbv_core::kinematics::{IkError, Unreachable};
     /// let q = Joints::new(0.2, 0.3, -1.3, 0.4, 0.7, -0.2);
@@ -358,7 +357,7 @@ impl Robot {
     /// queries that cannot be answered (unknown frame, unsupported robot, non-finite pose).
     /// ```
     /// # use nbv_core::kinematics::{Joints, Robot};
-    /// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+    /// # let path = nbv_core::kinematics::COMAU_URDF;
     /// let robot = Robot::from_urdf_file(path)?;
     /// // The depth camera 0.35 m above the floor, 0.8 m in front, looking straight down.
     /// let down = nbv_core::math::pose_from_xyz_rpy([0.8, 0.0, 0.35], [std::f64::consts::PI, 0.0, 0.0]);

@@ -134,7 +134,7 @@ impl ViewpointList {
 /// use nbv_core::occupancy::{GridGeometry, OccupancyGrid, OccupancyParams, ReducedMap};
 /// use nbv_core::rig::DepthCameraSpec;
 /// use nalgebra::Point3;
-/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+/// let path = nbv_core::kinematics::COMAU_URDF;
 /// let robot = Robot::from_urdf_file(path)?;
 /// let camera = DepthCameraSpec::ipa1110();
 /// let nbv = NextBestView::new(NbvParams::default(), &camera)?;

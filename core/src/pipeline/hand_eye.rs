@@ -280,11 +280,7 @@ mod tests {
     use rand_distr::StandardNormal;
 
     fn robot() -> Robot {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../assets/urdf/comau_smart_six.urdf"
-        );
-        Robot::from_urdf_file(path).unwrap()
+        crate::kinematics::comau_smart_six().unwrap()
     }
 
     /// The rig of paper-env1: its hand-eye error's size as σ, 0.05° joints, 2 mm / 0.2°.

@@ -96,7 +96,7 @@ struct ObstacleEntry {
 /// ```
 /// use nbv_core::kinematics::{Joints, Robot};
 /// use nbv_core::planning::{CollisionTarget, CollisionWorld, Obstacle};
-/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+/// let path = nbv_core::kinematics::COMAU_URDF;
 /// let robot = Robot::from_urdf_file(path)?;
 /// let table = Obstacle::cuboid("table", [0.85, 0.0, 0.125], [0.5, 0.6, 0.125]);
 /// let world = CollisionWorld::new(&robot, &[table])?;
@@ -322,11 +322,7 @@ mod tests {
     use nalgebra::Point3;
 
     fn robot() -> Robot {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../assets/urdf/comau_smart_six.urdf"
-        );
-        Robot::from_urdf_file(path).unwrap()
+        crate::kinematics::comau_smart_six().unwrap()
     }
 
     fn calibration() -> Joints {
@@ -471,10 +467,7 @@ mod tests {
 
     #[test]
     fn mesh_links_are_refused() {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../assets/urdf/comau_smart_six.urdf"
-        );
+        let path = crate::kinematics::COMAU_URDF;
         let text = std::fs::read_to_string(path).unwrap();
         // Replace the first <collision>'s geometry (base_link's foot plate) by a mesh.
         let start = text.find("<collision>").unwrap();

@@ -35,7 +35,7 @@ use crate::kinematics::{DOF, Joints};
 /// ```
 /// use nbv_core::kinematics::{Joints, Robot};
 /// use nbv_core::planning::{CollisionWorld, MotionBound};
-/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+/// let path = nbv_core::kinematics::COMAU_URDF;
 /// let world = CollisionWorld::new(&Robot::from_urdf_file(path)?, &[])?;
 /// let bound = MotionBound::new(&world);
 /// // J1 carries the whole arm: its (conservative) lever arm exceeds the 1.4 m reach.
@@ -131,10 +131,7 @@ mod tests {
     use proptest::prelude::*;
 
     fn world() -> CollisionWorld {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../assets/urdf/comau_smart_six.urdf"
-        );
+        let path = crate::kinematics::COMAU_URDF;
         CollisionWorld::new(&Robot::from_urdf_file(path).unwrap(), &[]).unwrap()
     }
 

@@ -80,7 +80,7 @@ pub struct PlannedPath {
 /// ```
 /// use nbv_core::kinematics::{Joints, Robot};
 /// use nbv_core::planning::{CollisionWorld, MotionPlanner, Obstacle, PlannerConfig};
-/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+/// let path = nbv_core::kinematics::COMAU_URDF;
 /// let robot = Robot::from_urdf_file(path)?;
 /// let table = Obstacle::cuboid("table", [0.85, 0.0, 0.125], [0.5, 0.6, 0.125]);
 /// let world = CollisionWorld::new(&robot, &[table])?;
@@ -469,11 +469,7 @@ mod tests {
     use std::f64::consts::{FRAC_PI_2, TAU};
 
     fn robot() -> Robot {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../assets/urdf/comau_smart_six.urdf"
-        );
-        Robot::from_urdf_file(path).unwrap()
+        crate::kinematics::comau_smart_six().unwrap()
     }
 
     /// A panel in front of the robot, across the forearm's swing at the calibration height.

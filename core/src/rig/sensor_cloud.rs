@@ -51,7 +51,7 @@ pub enum SensorCloudError {
 /// ```
 /// use nbv_core::kinematics::{Joints, Robot};
 /// use nbv_core::rig::sensor_pose;
-/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+/// let path = nbv_core::kinematics::COMAU_URDF;
 /// let robot = Robot::from_urdf_file(path)?;
 /// let q = Joints::new(0.0, 0.0, -std::f64::consts::FRAC_PI_2, 0.0, 0.0, 0.0);
 /// let base = nalgebra::Isometry3::translation(0.0, 0.0, 0.1);
@@ -125,7 +125,7 @@ impl CloudBuilder {
 /// ```
 /// use nbv_core::kinematics::{Joints, Robot};
 /// use nbv_core::rig::{lines_to_cloud, LineScannerSpec, Motion, ScanLine, TimedJoints};
-/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+/// let path = nbv_core::kinematics::COMAU_URDF;
 /// let robot = Robot::from_urdf_file(path)?;
 /// let q = Joints::new(0.0, 0.0, -std::f64::consts::FRAC_PI_2, 0.0, std::f64::consts::FRAC_PI_2, 0.0);
 /// let motion = Motion { samples: vec![TimedJoints { time: 0.0, joints: q }] };
@@ -231,11 +231,7 @@ mod tests {
     use nalgebra::Isometry3;
 
     fn robot() -> Robot {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../assets/urdf/comau_smart_six.urdf"
-        );
-        Robot::from_urdf_file(path).unwrap()
+        crate::kinematics::comau_smart_six().unwrap()
     }
 
     fn spec() -> LineScannerSpec {

@@ -143,11 +143,7 @@ pub fn mapped_scene(object: usize) -> (OccupancyGrid, ReducedMap, Vec<Point3<f64
 
 /// The robot.
 pub fn robot() -> Robot {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../assets/urdf/comau_smart_six.urdf"
-    );
-    Robot::from_urdf_file(path).unwrap()
+    nbv_core::kinematics::comau_smart_six().unwrap()
 }
 
 /// The Dinast IPA-1110 as the paper gives it.

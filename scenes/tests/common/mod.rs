@@ -7,9 +7,7 @@ use std::path::{Path, PathBuf};
 
 /// The robot's URDF (validation loads it as a kinematic model).
 pub fn fixture_urdf() -> PathBuf {
-    nbv_scenes::paths::normalize(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/urdf/comau_smart_six.urdf"),
-    )
+    nbv_scenes::paths::normalize(&std::path::PathBuf::from(nbv_core::kinematics::COMAU_URDF))
 }
 
 /// A built-in scene's text with its robot URDF pointed at the fixture.

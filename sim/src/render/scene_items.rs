@@ -65,7 +65,7 @@ pub fn object_color(i: usize) -> Color {
 /// `package://` (then, if absent, also without the package name).
 ///
 /// ```
-/// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/urdf/comau_smart_six.urdf");
+/// # let path = nbv_core::kinematics::COMAU_URDF;
 /// use nbv_core::kinematics::{Joints, Robot};
 /// let robot = Robot::from_urdf_file(path).unwrap();
 /// let dir = std::path::Path::new(path).parent().unwrap();

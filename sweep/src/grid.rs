@@ -18,14 +18,14 @@
 //! the parameter combinations (keys in alphabetical order, the last key varying fastest);
 //! for each, the seeds. Episode `k` of `n` belongs to shard `k mod n`.
 
-use anyhow::{Context, Result, bail};
+use crate::error::{Context, Result, bail, invalid};
 use nbv_core::pipeline::ExploreMode;
 use nbv_scenes::Scene;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use super::scene::with_overrides;
+use nbv_scenes::overrides::with_overrides;
 
 /// The grid file as written.
 #[derive(Debug, Clone, Default, Deserialize)]
@@ -134,9 +134,8 @@ impl SweepGrid {
     /// Parses and checks grid text (`file` names it in errors).
     pub fn parse(text: &str, file: &Path) -> Result<Self> {
         let f = file.display();
-        let g: GridFile = toml::from_str(text).map_err(|e| {
-            anyhow::anyhow!("{f}: {}", e.to_string().trim_end().replace('\n', "\n  "))
-        })?;
+        let g: GridFile = toml::from_str(text)
+            .map_err(|e| invalid!("{f}: {}", e.to_string().trim_end().replace('\n', "\n  ")))?;
         let mut scenes: Vec<SceneSource> =
             g.scenes.iter().cloned().map(SceneSource::Named).collect();
         if let Some(generated) = &g.generated {
@@ -206,6 +205,11 @@ impl SweepGrid {
             * self.params.iter().map(|(_, v)| v.len()).product::<usize>()
     }
 
+    /// Whether the grid has no episode (a checked grid always has one).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
     /// Every episode, in order.
     pub fn episodes(&self) -> Vec<Episode> {
         let combos: usize = self.params.iter().map(|(_, v)| v.len()).product();
@@ -270,7 +274,7 @@ impl Episode {
     /// the scene's own validation, so a bad key or value names itself), the seed set.
     pub fn scene(&self, grid_file: &Path) -> Result<Scene> {
         let base = match &self.scene {
-            SceneSource::Named(s) => crate::cli::scene::load(s)?,
+            SceneSource::Named(s) => nbv_scenes::overrides::load(s)?,
             SceneSource::Generated { seed, objects } => {
                 nbv_scenes::generator::generate(*seed, *objects)
                     .with_context(|| format!("generating scene {}", self.scene.label()))?

@@ -3,8 +3,8 @@
 //! registration coloured by view (Figure 11). Pictures only add to the run: without a GPU
 //! adapter, or if drawing fails, a warning is printed and the run goes on.
 
-use super::explore_report::ExploreReport;
-use anyhow::{Context, Result};
+use crate::error::{Context, Result};
+use crate::report::ExploreReport;
 use nbv_core::cloud::PointCloud;
 use nbv_core::occupancy::ReducedMap;
 use nbv_core::pipeline::Exploration;

@@ -1,12 +1,12 @@
 //! A sweep's results: one [`EpisodeRow`] per finished episode (its parameters and metrics,
 //! from the episode's report), `results.csv` from all rows, and the machine-readable
-//! [`Summary`](super::sweep::Summary) — aggregates, the best settings by F-score, by
+//! [`Summary`](crate::engine::Summary) — aggregates, the best settings by F-score, by
 //! coverage gain per view and by registration error, and the per-object registration
 //! table (the paper's Table III on the twin).
 
-use super::explore_report::ExploreReport;
-use super::sweep_grid::Episode;
-use anyhow::{Context, Result};
+use crate::error::{Context, Result};
+use crate::grid::Episode;
+use crate::report::ExploreReport;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -155,7 +155,7 @@ impl EpisodeRow {
             .collect();
         let views: usize = objects.iter().map(|o| o.views.len()).sum();
         let per_object_views = views as f64 / objects.len().max(1) as f64;
-        let alignment = |pick: &dyn Fn(&super::explore_report::ObjectEntry) -> Option<f64>| {
+        let alignment = |pick: &dyn Fn(&crate::report::ObjectEntry) -> Option<f64>| {
             mean(&objects.iter().filter_map(pick).collect::<Vec<_>>())
         };
         let level = episode
@@ -187,7 +187,7 @@ impl EpisodeRow {
             })
             .collect::<Vec<_>>();
         let (coverage, coverage_mid_range) = (mean(&cov), mean(&mid));
-        let quality = |pick: &dyn Fn(&super::explore_report::ObjectEntry) -> Option<f64>| {
+        let quality = |pick: &dyn Fn(&crate::report::ObjectEntry) -> Option<f64>| {
             objects.iter().filter_map(pick).collect::<Vec<_>>()
         };
         let f_scores = quality(&|o| o.quality.map(|q| q.f_score));
@@ -325,7 +325,9 @@ pub fn csv_text(rows: &[EpisodeRow]) -> Result<String> {
         ]);
         w.write_record(&rec)?;
     }
-    let bytes = w.into_inner().map_err(|e| anyhow::anyhow!("csv: {e}"))?;
+    let bytes = w
+        .into_inner()
+        .map_err(|e| crate::error::invalid!("csv: {e}"))?;
     Ok(String::from_utf8(bytes)?)
 }
 
@@ -585,7 +587,7 @@ pub fn robustness_table(rows: &[EpisodeRow]) -> Vec<RobustnessLine> {
 }
 
 /// Median and 95th percentile (nearest rank) of `v`.
-fn quantiles(v: &[f64]) -> (f64, f64) {
+pub(crate) fn quantiles(v: &[f64]) -> (f64, f64) {
     let s = sorted(v);
     (nearest_rank(&s, 0.5), nearest_rank(&s, 0.95))
 }
@@ -645,10 +647,11 @@ pub fn registration_table(rows: &[EpisodeRow]) -> Vec<RegistrationLine> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn row(index: usize, alpha: &str, coverage: f64, gpa: f64) -> EpisodeRow {
+    /// A row of made-up metrics.
+    pub(crate) fn row(index: usize, alpha: &str, coverage: f64, gpa: f64) -> EpisodeRow {
         EpisodeRow {
             index,
             id: format!("{index:04}-0"),

@@ -1,0 +1,160 @@
+//! The terminal summary of `nbv explore`: a few lines per episode and object from the
+//! report ([`nbv_sweep::report`]).
+
+use nbv_sweep::report::{ExploreReport, QUALITY_TOLERANCE, RegistrationScore};
+
+/// A few lines for the terminal.
+pub fn summary(report: &ExploreReport) -> String {
+    let mut s = format!(
+        "{} ({}, seed {}): {} points in phase 1, {} object(s), {} view(s), {} collision(s), \
+             mean F-score {:.1} (as acquired {:.1})\n",
+        report.scene,
+        report.mode,
+        report.seed,
+        report.phase_one.points,
+        report.objects.len(),
+        report.totals.views,
+        report.totals.collisions,
+        100.0 * report.totals.mean_f_score,
+        100.0 * report.totals.mean_f_score_unregistered
+    );
+    let pct = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:.1}", 100.0 * v));
+    for o in &report.objects {
+        let mm = |e: &Option<RegistrationScore>| {
+            e.as_ref().map_or("-".to_string(), |e| {
+                let mark = if e.accepted { "" } else { "!" };
+                format!("{:.1} mm{mark}", e.alignment * 1e3)
+            })
+        };
+        let q = o.quality.as_ref();
+        s += &format!(
+            "  {:<12} F {:>5}  P {:>5}  C {:>5}  chamfer {:>7}  as acquired F {:>5}  views {:>2}  failed {:>2}  alignment as acquired {:>7}  map {:>7}  p-icp-gpa {:>7}  icp {:>7}  ({})\n",
+            o.name,
+            pct(q.map(|q| q.f_score)),
+            pct(q.map(|q| q.precision)),
+            pct(q.map(|q| q.completeness)),
+            q.map_or("-".to_string(), |q| format!("{:.1} mm", q.chamfer * 1e3)),
+            pct(o.quality_unregistered.map(|q| q.f_score)),
+            o.views.len(),
+            o.viewpoints_failed.len(),
+            mm(&o.error_unregistered),
+            mm(&o.error_gpa),
+            mm(&o.error_pgpa),
+            mm(&o.error_icp),
+            o.stop
+        );
+    }
+    for o in report.objects.iter().filter(|o| o.truth != "object") {
+        s += &format!(
+            "  {} matches none of the scene's objects: {}\n",
+            o.name, o.truth
+        );
+    }
+    for v in &report.phase_one.slivers {
+        s += &format!(
+            "  dropped in phase 1: a sliver of {}'s face ({} points, {:.1} mm thick, {:.1} mm in front of its box)\n",
+            v.obstacle,
+            v.points,
+            v.thickness * 1e3,
+            v.distance * 1e3
+        );
+    }
+    if !report.missed_objects.is_empty() || !report.split_objects.is_empty() {
+        s += &format!(
+            "  missed: {}; split into several clusters: {}\n",
+            list_or_none(&report.missed_objects),
+            list_or_none(&report.split_objects)
+        );
+    }
+    if let Some(w) = &report.workcell_alignment {
+        s += &format!(
+            "  laser sweep aligned to the workcell: {} ({:.2}° and {:.1} mm, {} points on known surfaces, rms {:.1} mm)\n",
+            if w.accepted {
+                "corrected"
+            } else {
+                "NOT corrected"
+            },
+            w.rotation_deg,
+            w.translation * 1e3,
+            w.inliers,
+            w.rms * 1e3
+        );
+    }
+    if let Some(h) = &report.hand_eye {
+        let e = &h.estimate;
+        let deg = |v: [f64; 3]| v.map(f64::to_degrees);
+        let r = deg(e.rotation);
+        let mut line = format!(
+            "  hand-eye estimate from {} views: rotation [{:.2}, {:.2}, {:.2}]° translation [{:.1}, {:.1}, {:.1}] mm",
+            e.views,
+            r[0],
+            r[1],
+            r[2],
+            e.translation[0] * 1e3,
+            e.translation[1] * 1e3,
+            e.translation[2] * 1e3
+        );
+        if let (Some(t), Some(dr), Some(dt)) = (h.truth, h.rotation_error_deg, h.translation_error)
+        {
+            line += &format!(
+                "; injected [{:.2}, {:.2}, {:.2}]° [{:.1}, {:.1}, {:.1}] mm: off by {:.2}° and {:.1} mm",
+                t[0].to_degrees(),
+                t[1].to_degrees(),
+                t[2].to_degrees(),
+                t[3] * 1e3,
+                t[4] * 1e3,
+                t[5] * 1e3,
+                dr,
+                dt * 1e3
+            );
+        }
+        s += &line;
+        s += "\n";
+        let q = e.joint_offsets.map(f64::to_degrees);
+        let mut line = format!(
+            "    σ {:.2}° / {:.1} mm; joint offsets [{:.3}, {:.3}, {:.3}, {:.3}, {:.3}, {:.3}]°",
+            e.sigma[0].to_degrees(),
+            e.sigma[1] * 1e3,
+            q[0],
+            q[1],
+            q[2],
+            q[3],
+            q[4],
+            q[5]
+        );
+        if let Some(t) = h.joint_offsets_truth {
+            let t = t.map(f64::to_degrees);
+            line += &format!(
+                " (injected [{:.3}, {:.3}, {:.3}, {:.3}, {:.3}, {:.3}]°)",
+                t[0], t[1], t[2], t[3], t[4], t[5]
+            );
+        }
+        line += &format!(
+            "; {} calibrated registration pass(es): every object registered again from the calibrated poses",
+            e.passes
+        );
+        s += &line;
+        s += "\n";
+    }
+    s += &format!(
+        "  (F: F-score, the harmonic mean of P, the share of the model's points within \
+             {tau:.0} mm of the true surface, and C, the share of the true surface above the \
+             table within {tau:.0} mm of the model (its coverage); chamfer: mean of the mean \
+             distances model to surface and surface to model; as acquired: the views before \
+             registration)\n",
+        tau = QUALITY_TOLERANCE * 1e3
+    );
+    s += "  (alignment: mean displacement of the true points by each view's misalignment; \
+              map = the model's registration; ! = rejected (map: not converged or the \
+              objective did not fall; p-icp-gpa, icp: not converged or a correction beyond \
+              [registration] max_correction_*): the model keeps the reported poses)\n";
+    s
+}
+
+fn list_or_none(names: &[String]) -> String {
+    if names.is_empty() {
+        "none".into()
+    } else {
+        names.join(", ")
+    }
+}

@@ -1,0 +1,103 @@
+//! One episode: the method on a scene in the twin, measured against the scene's truth
+//! ([`crate::report::evaluate`]), its outputs written into a directory — what `nbv
+//! explore` runs, and what a sweep runs per episode.
+//!
+//! ```text
+//! OUT/report.json                the report (written atomically, last)
+//! OUT/map/grid.nbvgrid           the occupancy grid after phase 1 (final.nbvgrid: at the end)
+//! OUT/mid_range.ply              the phase-1 sweep cloud
+//! OUT/objects/<name>/model.ply   the registered model; views/view_NN.ply each view
+//! OUT/*.png                      the pictures, when asked ([`crate::pictures`])
+//! ```
+
+use crate::error::{Context, Result, bail};
+use crate::report::{ExploreReport, evaluate};
+use nbv_core::cloud::io::{WriteOptions, write_cloud};
+use nbv_core::pipeline::{Exploration, ExploreConfig, ExploreMode, ExploreObserver};
+use nbv_sim::rig::SimRig;
+use std::path::Path;
+
+/// One exploration of `scene` in the twin, its events to `observer`, its outputs written
+/// into `out`.
+pub fn run_episode(
+    scene: &nbv_scenes::Scene,
+    mode: ExploreMode,
+    out: &Path,
+    pictures: bool,
+    observer: &mut dyn ExploreObserver,
+) -> Result<ExploreReport> {
+    check_output(out)?;
+    let (config, exploration) = explore_in_twin(scene, mode, observer)?;
+    finish_episode(scene, &config, &exploration, out, pictures)
+}
+
+/// Fails unless `out` is a directory or does not exist yet.
+pub fn check_output(out: &Path) -> Result<()> {
+    if out.exists() && !out.is_dir() {
+        bail!("{}: exists and is not a directory", out.display());
+    }
+    Ok(())
+}
+
+/// The method on `scene` in the twin: the configuration it ran with and what it found.
+pub fn explore_in_twin(
+    scene: &nbv_scenes::Scene,
+    mode: ExploreMode,
+    observer: &mut dyn ExploreObserver,
+) -> Result<(ExploreConfig, Exploration)> {
+    let config = scene.explore_config(mode)?;
+    let mut rig = SimRig::from_scene(scene).context("building the twin")?;
+    let exploration = rig.explore(&config, observer)?;
+    Ok((config, exploration))
+}
+
+/// Evaluates an exploration against the scene's truth and writes the report, the models,
+/// the map and (if asked) the pictures into `out`.
+pub fn finish_episode(
+    scene: &nbv_scenes::Scene,
+    config: &ExploreConfig,
+    exploration: &Exploration,
+    out: &Path,
+    pictures: bool,
+) -> Result<ExploreReport> {
+    let report = evaluate(scene, config, exploration)?;
+    write_outputs(out, exploration, &report)?;
+    if pictures {
+        crate::pictures::write(out, scene, exploration, &report);
+    }
+    Ok(report)
+}
+
+fn write_outputs(out: &Path, exploration: &Exploration, report: &ExploreReport) -> Result<()> {
+    check_output(out)?;
+    std::fs::create_dir_all(out.join("map"))
+        .with_context(|| format!("creating {}", out.display()))?;
+    let opts = WriteOptions::default();
+    write_cloud(
+        out.join("mid_range.ply"),
+        &exploration.phase_one.cloud,
+        &opts,
+    )?;
+    write_grid(&out.join("map/grid.nbvgrid"), &exploration.phase_one.grid)?;
+    write_grid(&out.join("map/final.nbvgrid"), &exploration.grid)?;
+    for (object, entry) in exploration.objects.iter().zip(&report.objects) {
+        let dir = out.join("objects").join(&entry.name);
+        std::fs::create_dir_all(dir.join("views"))
+            .with_context(|| format!("creating {}", dir.display()))?;
+        write_cloud(dir.join("model.ply"), &object.model(), &opts)?;
+        write_cloud(dir.join("views/view_00.ply"), &object.cluster, &opts)?;
+        for (k, v) in object.views.iter().enumerate() {
+            write_cloud(
+                dir.join(format!("views/view_{:02}.ply", k + 1)),
+                &v.cloud,
+                &opts,
+            )?;
+        }
+    }
+    crate::layout::write_json(&out.join("report.json"), report)
+}
+
+fn write_grid(path: &Path, grid: &nbv_core::occupancy::OccupancyGrid) -> Result<()> {
+    grid.save(path)
+        .with_context(|| format!("writing {}", path.display()))
+}

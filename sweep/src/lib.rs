@@ -1,0 +1,33 @@
+//! # nbv-sweep
+//!
+//! Episodes of nbv-twin measured against the twin's truth, and sweeps of them — the
+//! library behind `nbv explore` and `nbv sweep`; the binary parses arguments and prints.
+//!
+//! - [`episode`]: one exploration in the twin and its outputs (report, models, map).
+//! - [`report`]: [`report::ExploreReport`], an exploration measured against the scene's
+//!   truth (quality, coverage, registration and alignment errors); [`matching`]: which
+//!   scene object a cluster is.
+//! - [`pictures`]: the episode's PNG pictures (headless renderer).
+//! - [`grid`]: a sweep's grid file and its episodes; [`shard`]: `I/N`.
+//! - [`engine`]: run, resume and merge a sweep; [`layout`]: the sweep directory.
+//! - [`results`]: rows, CSV, aggregates, best settings, registration and robustness
+//!   tables; [`gate`]: `--require` gates; [`plots`]: SVG plots.
+//! - [`views`]: what `nbv views` lists — each object's next-best-view candidates,
+//!   planned and checked in the twin.
+//! - [`error`]: the error type, [`SweepError`].
+
+pub mod engine;
+pub mod episode;
+pub mod error;
+pub mod gate;
+pub mod grid;
+pub mod layout;
+pub mod matching;
+pub mod pictures;
+pub mod plots;
+pub mod report;
+pub mod results;
+pub mod shard;
+pub mod views;
+
+pub use error::{Result, SweepError};
