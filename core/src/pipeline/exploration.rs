@@ -130,6 +130,7 @@ fn self_calibrate(
                 object.registration_error = Some(e.to_string());
             }
         }
+        current.passes = pass;
         let Some(mut next) = estimate(objects) else {
             break;
         };
