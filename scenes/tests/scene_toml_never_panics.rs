@@ -13,17 +13,7 @@ use nbv_scenes::{Problem, Scene, SceneError};
 use proptest::prelude::*;
 use proptest::sample::Index;
 
-fn load(text: &str) -> Result<Scene, SceneError> {
-    Scene::from_toml_str(
-        text,
-        &nbv_scenes::builtin::base_dir(),
-        Path::new("bad.toml"),
-    )
-}
-
-fn env1() -> String {
-    common::builtin_text_with_fixture("paper-env1")
-}
+use common::{env1, load_as_bad as load};
 
 /// Texts a number is replaced with: non-finite, negative, zero, huge and wrong types.
 const REPLACEMENTS: &[&str] = &[

@@ -7,17 +7,7 @@ use nbv_scenes::{Problem, Scene, SceneError};
 use proptest::prelude::*;
 use std::path::Path;
 
-fn check(text: &str) -> Result<Scene, SceneError> {
-    Scene::from_toml_str(
-        text,
-        &nbv_scenes::builtin::base_dir(),
-        Path::new("bad.toml"),
-    )
-}
-
-fn env1() -> String {
-    common::builtin_text_with_fixture("paper-env1")
-}
+use common::{env1, load_as_bad as check};
 
 fn invalid(text: &str) -> (String, Problem) {
     match check(text) {

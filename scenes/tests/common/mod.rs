@@ -26,3 +26,17 @@ pub fn builtin_with_fixture(name: &str) -> Result<Scene, nbv_scenes::SceneError>
         Path::new(&format!("{name}.toml")),
     )
 }
+
+/// Loads scene text as the file `bad.toml` beside the built-in scenes (the bad-input tests).
+pub fn load_as_bad(text: &str) -> Result<Scene, nbv_scenes::SceneError> {
+    Scene::from_toml_str(
+        text,
+        &nbv_scenes::builtin::base_dir(),
+        Path::new("bad.toml"),
+    )
+}
+
+/// paper-env1's text with the fixture URDF.
+pub fn env1() -> String {
+    builtin_text_with_fixture("paper-env1")
+}
