@@ -2,7 +2,7 @@
 //! (when a [`Reachability`] is supplied) reachable viewpoints, obstacles, the grid.
 
 use crate::error::SceneError;
-use crate::mesh_distance::surface_distance_below;
+use crate::mesh_distance::Surfaces;
 use crate::reachability::{Reachability, count_reachable, viewing_sphere};
 use crate::scene::Scene;
 use nalgebra::Point3;
@@ -86,18 +86,15 @@ pub fn describe(
 ) -> Result<SceneSummary, SceneError> {
     let objects = scene.object_meshes()?;
     let obstacles = scene.obstacle_meshes()?;
+    let surfaces = Surfaces::new(objects.iter().chain(&obstacles));
     let mut rows = Vec::new();
     for (i, (o, m)) in scene.objects.iter().zip(&objects).enumerate() {
         let local = m.transformed(&o.pose.to_pose().inverse());
         let (lo, hi) = local.bounds().unwrap_or_default();
         let centroid = solid_centroid(m);
-        let clearance = objects
-            .iter()
-            .enumerate()
-            .filter(|(j, _)| *j != i)
-            .map(|(_, other)| other)
-            .chain(&obstacles)
-            .filter_map(|other| surface_distance_below(m, other, 1.0))
+        let clearance = (0..objects.len() + obstacles.len())
+            .filter(|&j| j != i)
+            .filter_map(|j| surfaces.distance_below(i, j, 1.0))
             .fold(None, |acc: Option<f64>, d| {
                 Some(acc.map_or(d, |a| a.min(d)))
             });

@@ -7,6 +7,8 @@
 //! pseudo-normals for closed, consistently oriented meshes. This file is the boundary:
 //! it converts the project's meshes (nalgebra) to parry's (glam).
 
+use std::cell::OnceCell;
+
 use nalgebra::Point3;
 use nbv_core::mesh::TriMesh;
 use parry3d_f64::math::{Pose, Vector};
@@ -33,8 +35,73 @@ fn to_parry(mesh: &TriMesh, flags: TriMeshFlags) -> Option<ParryMesh> {
     ParryMesh::with_flags(vertices, triangles, flags).ok()
 }
 
+/// Placed meshes converted to parry once, for many distance and containment queries
+/// (scene validation asks about every pair; building a mesh's hierarchy is most of a
+/// query's cost).
+///
+/// ```
+/// use nbv_core::mesh::TriMesh;
+/// use nbv_scenes::mesh_distance::Surfaces;
+/// use nalgebra::{Isometry3, Point3};
+/// let a = TriMesh::cuboid([0.5; 3]);
+/// let b = a.transformed(&Isometry3::translation(1.25, 0.0, 0.0));
+/// let set = Surfaces::new([&a, &b]);
+/// assert!((set.distance_below(0, 1, 1.0).unwrap() - 0.25).abs() < 1e-12);
+/// assert!(set.contains(1, &Point3::new(1.2, 0.0, 0.0)));
+/// ```
+pub struct Surfaces<'a> {
+    meshes: Vec<&'a TriMesh>,
+    plain: Vec<Option<ParryMesh>>,
+    oriented: Vec<OnceCell<Option<ParryMesh>>>,
+}
+
+impl<'a> Surfaces<'a> {
+    /// Converts each mesh (the oriented form for containment is built on first use).
+    pub fn new(meshes: impl IntoIterator<Item = &'a TriMesh>) -> Self {
+        let meshes: Vec<&TriMesh> = meshes.into_iter().collect();
+        Self {
+            plain: meshes
+                .iter()
+                .map(|m| to_parry(m, TriMeshFlags::empty()))
+                .collect(),
+            oriented: meshes.iter().map(|_| OnceCell::new()).collect(),
+            meshes,
+        }
+    }
+
+    /// The distance between meshes `a` and `b`'s surfaces if it is below `limit`, else
+    /// `None` (also when a mesh has no triangle). 0 when they cross or touch.
+    ///
+    /// # Panics
+    /// If `a` or `b` is not an index of the set.
+    pub fn distance_below(&self, a: usize, b: usize, limit: f64) -> Option<f64> {
+        let (pa, pb) = (self.plain[a].as_ref()?, self.plain[b].as_ref()?);
+        // Closest points within `limit` only: the hierarchies prune every pair farther apart.
+        let pair = query::closest_points(&Pose::IDENTITY, pa, &Pose::IDENTITY, pb, limit).ok()?;
+        let d = match pair {
+            ClosestPoints::Intersecting => 0.0,
+            ClosestPoints::WithinMargin(p, q) => (p - q).length(),
+            ClosestPoints::Disjoint => return None,
+        };
+        (d < limit).then_some(d)
+    }
+
+    /// Whether `p` lies inside closed mesh `i` (behind the pseudo-normal of its nearest
+    /// surface feature; a mesh parry cannot orient contains nothing).
+    ///
+    /// # Panics
+    /// If `i` is not an index of the set.
+    pub fn contains(&self, i: usize, p: &Point3<f64>) -> bool {
+        let flags = TriMeshFlags::ORIENTED | TriMeshFlags::MERGE_DUPLICATE_VERTICES;
+        self.oriented[i]
+            .get_or_init(|| to_parry(self.meshes[i], flags))
+            .as_ref()
+            .is_some_and(|m| m.contains_local_point(Vector::new(p.x, p.y, p.z)))
+    }
+}
+
 /// The distance between two meshes' surfaces if it is below `limit`, else `None` (also
-/// when a mesh has no triangle).
+/// when a mesh has no triangle); one query of a two-mesh [`Surfaces`].
 ///
 /// ```
 /// use nbv_core::mesh::TriMesh;
@@ -47,20 +114,10 @@ fn to_parry(mesh: &TriMesh, flags: TriMeshFlags) -> Option<ParryMesh> {
 /// assert_eq!(surface_distance_below(&a, &b, 0.1), None);
 /// ```
 pub fn surface_distance_below(a: &TriMesh, b: &TriMesh, limit: f64) -> Option<f64> {
-    let pa = to_parry(a, TriMeshFlags::empty())?;
-    let pb = to_parry(b, TriMeshFlags::empty())?;
-    // Closest points within `limit` only: the hierarchies prune every pair farther apart.
-    let pair = query::closest_points(&Pose::IDENTITY, &pa, &Pose::IDENTITY, &pb, limit).ok()?;
-    let d = match pair {
-        ClosestPoints::Intersecting => 0.0,
-        ClosestPoints::WithinMargin(p, q) => (p - q).length(),
-        ClosestPoints::Disjoint => return None,
-    };
-    (d < limit).then_some(d)
+    Surfaces::new([a, b]).distance_below(0, 1, limit)
 }
 
-/// Whether `p` lies inside the closed mesh (behind the pseudo-normal of its nearest
-/// surface feature; a mesh parry cannot orient contains nothing).
+/// Whether `p` lies inside the closed mesh; one query of a one-mesh [`Surfaces`].
 ///
 /// ```
 /// use nbv_core::mesh::TriMesh;
@@ -71,8 +128,7 @@ pub fn surface_distance_below(a: &TriMesh, b: &TriMesh, limit: f64) -> Option<f6
 /// assert!(!contains_point(&cube, &Point3::new(0.6, 0.0, 0.0)));
 /// ```
 pub fn contains_point(mesh: &TriMesh, p: &Point3<f64>) -> bool {
-    let flags = TriMeshFlags::ORIENTED | TriMeshFlags::MERGE_DUPLICATE_VERTICES;
-    to_parry(mesh, flags).is_some_and(|m| m.contains_local_point(Vector::new(p.x, p.y, p.z)))
+    Surfaces::new([mesh]).contains(0, p)
 }
 
 #[cfg(test)]

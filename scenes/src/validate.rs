@@ -13,7 +13,7 @@
 //! - no obstacle vertex lies inside the table box (deeper than the rest tolerance).
 
 use crate::error::{Problem, SceneError};
-use crate::mesh_distance::{contains_point, surface_distance_below};
+use crate::mesh_distance::Surfaces;
 use crate::placed::obstacle_local_mesh;
 use crate::scene::Scene;
 use crate::schema::PoseSpec;
@@ -645,6 +645,7 @@ fn geometry(s: &Scene, c: &Check) -> Result<(), SceneError> {
                 .map(|(i, (o, m))| (format!("obstacles[{i}]"), o.name.as_str(), m)),
         )
         .collect();
+    let surfaces = Surfaces::new(named.iter().map(|(_, _, m)| *m));
     for i in 0..s.objects.len() {
         for j in (i + 1)..named.len() {
             let (ka, na, ma) = &named[i];
@@ -661,7 +662,7 @@ fn geometry(s: &Scene, c: &Check) -> Result<(), SceneError> {
                     },
                 )
             };
-            if let Some(d) = surface_distance_below(ma, mb, min.max(1e-9)) {
+            if let Some(d) = surfaces.distance_below(i, j, min.max(1e-9)) {
                 let note = if d == 0.0 {
                     " (they touch or intersect)"
                 } else {
@@ -669,8 +670,8 @@ fn geometry(s: &Scene, c: &Check) -> Result<(), SceneError> {
                 };
                 return Err(too_close(d, note));
             }
-            let inside = ma.vertices.first().is_some_and(|p| contains_point(mb, p))
-                || mb.vertices.first().is_some_and(|p| contains_point(ma, p));
+            let inside = ma.vertices.first().is_some_and(|p| surfaces.contains(j, p))
+                || mb.vertices.first().is_some_and(|p| surfaces.contains(i, p));
             if inside {
                 return Err(too_close(0.0, " (one is inside the other)"));
             }
