@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{BOXES, nbv, synthetic_cloud, text};
+use common::{boxes, nbv, synthetic_cloud, text};
 use nbv_core::cloud::io::{WriteOptions, read_cloud, write_cloud};
 use nbv_core::occupancy::OccupancyGrid;
 use std::path::Path;
@@ -28,13 +28,13 @@ fn check_clusters(s: &serde_json::Value) {
         let x = c["centroid"][0].as_f64().unwrap();
         let y = c["centroid"][1].as_f64().unwrap();
         let zmax = c["max"][2].as_f64().unwrap();
-        let b = BOXES
+        let b = boxes()
             .iter()
             .position(|(lo, hi)| x > lo[0] && x < hi[0] && y > lo[1] && y < hi[1])
             .unwrap_or_else(|| panic!("cluster {c} over no box"));
         matched[b] += 1;
         // The top of the cluster is the box top (voxel centroids: within 5 mm).
-        assert!((zmax - BOXES[b].1[2]).abs() < 0.005, "{c}");
+        assert!((zmax - boxes()[b].1[2]).abs() < 0.005, "{c}");
         assert!(c["points"].as_u64().unwrap() >= 100);
     }
     assert_eq!(matched, [1, 1]);

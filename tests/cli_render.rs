@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{BOXES, nbv, synthetic_cloud, text};
+use common::{boxes, nbv, synthetic_cloud, text};
 use image::RgbaImage;
 use nalgebra::Point3;
 use nbv_core::cloud::PointCloud;
@@ -114,7 +114,7 @@ fn cloud_pictures_colour_each_file() {
     let all = synthetic_cloud(false);
     // File A: the table; file B: what stands on it.
     let on_table = |keep: bool| -> PointCloud {
-        all.retain_indices(|i| (all.points[i].z > common::TABLE_TOP + 0.005) == keep)
+        all.retain_indices(|i| (all.points[i].z > common::table_top() + 0.005) == keep)
     };
     let (a, b) = (tmp.path().join("a.ply"), tmp.path().join("b.ply"));
     write_cloud(&a, &on_table(false), &WriteOptions::default()).unwrap();
@@ -173,7 +173,7 @@ fn map_pictures_show_occupied_voxels_red_and_unknown_grey() {
     );
     let (cf, _) = front_and_back(lo, hi, f64::from(W) / f64::from(H));
     // The middle of each box's top face is an occupied voxel, seen from the front.
-    for (blo, bhi) in BOXES {
+    for (blo, bhi) in boxes() {
         let top = Point3::new(
             (blo[0] + bhi[0]) / 2.0,
             (blo[1] + bhi[1]) / 2.0,

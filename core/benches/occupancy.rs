@@ -14,10 +14,7 @@ use nbv_core::cloud::PointCloud;
 use nbv_core::occupancy::{GridGeometry, OccupancyGrid, OccupancyParams, ReducedMap};
 use nbv_core::perception::{PhaseOneConfig, phase_one};
 
-#[path = "support/synthetic_sweep.rs"]
-mod synthetic_sweep;
-
-use synthetic_sweep::sweep;
+use nbv_fixtures::SyntheticSweep;
 
 fn paper_geometry() -> GridGeometry {
     GridGeometry::new(
@@ -30,7 +27,7 @@ fn paper_geometry() -> GridGeometry {
 
 fn benches(c: &mut Criterion) {
     let geometry = paper_geometry();
-    let (origins, points) = sweep();
+    let (origins, points) = SyntheticSweep::paper_scale().scan();
     eprintln!(
         "grid {:?} = {} voxels, sweep of {} returns",
         geometry.dims(),
@@ -122,7 +119,7 @@ fn scan_lines(origins: &[Point3<f64>]) -> Vec<std::ops::Range<usize>> {
 /// The whole of phase 1 (segmentation with the default parameters, grid, reduced map) on
 /// the same sweep.
 fn phase_one_bench(c: &mut Criterion) {
-    let (origins, points) = sweep();
+    let (origins, points) = SyntheticSweep::paper_scale().scan();
     let mut cloud = PointCloud::from_points(points);
     cloud.origins = Some(origins);
     let config = PhaseOneConfig::new(paper_geometry());

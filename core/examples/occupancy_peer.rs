@@ -20,8 +20,7 @@ use nbv_core::cloud::PointCloud;
 use nbv_core::cloud::io::{FloatType, WriteOptions, write_cloud};
 use nbv_core::occupancy::{GridGeometry, OccupancyGrid, OccupancyParams};
 
-#[path = "../benches/support/synthetic_sweep.rs"]
-mod synthetic_sweep;
+use nbv_fixtures::SyntheticSweep;
 
 /// Lower corner of the grid: the paper's workspace with z moved down to 0.22 so that it
 /// is a multiple of the 2 cm resolution, like x = 0.30 and y = −0.70.
@@ -63,7 +62,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let runs = runs.max(1);
     std::fs::create_dir_all(&out)?;
-    let (origins, points) = synthetic_sweep::noisy_sweep(2014);
+    let (origins, points) = SyntheticSweep::paper_scale().noisy_scan(2014);
     let groups = lines(&origins);
     let geometry = GridGeometry::from_dims(Point3::from(GRID_MIN), RESOLUTION, DIMS)?;
     let params = OccupancyParams::default();
