@@ -27,6 +27,9 @@
 use nalgebra::{DMatrix, DVector, Matrix6, Point3, Translation3, UnitQuaternion, Vector6};
 use rayon::prelude::*;
 
+use std::sync::Mutex;
+
+use super::map_correspondences::PairNearest;
 use super::map_terms::{self, DataTerm, Kernel, Pair};
 use super::map_view::MapView;
 use super::{
@@ -50,6 +53,8 @@ const SMALL_STEP_LAMBDA: f64 = 1e-2;
 struct Problem<'a> {
     views: Vec<MapView>,
     pairs: Vec<Pair>,
+    /// Each pair's correspondences, kept between evaluations.
+    nearest: Mutex<Vec<PairNearest>>,
     initial: &'a [Pose],
     models: &'a [ViewModel],
     /// Sensor origins at the initial poses (world): the centres of the corrections.
@@ -100,7 +105,12 @@ pub(crate) fn run(
         map.pair_points,
         map.view_to_view,
     );
+    let nearest = pairs
+        .iter()
+        .map(|pair| PairNearest::new(&views, pair, kernel.max_distance))
+        .collect();
     let mut problem = Problem {
+        nearest: Mutex::new(nearest),
         views,
         pairs,
         initial,
@@ -273,7 +283,19 @@ impl Problem<'_> {
             .zip(&self.origins)
             .map(|(c, o)| c * o)
             .collect();
-        map_terms::evaluate(&self.views, &self.pairs, &poses, &centres, &self.kernel)
+        // Evaluations never overlap; a poisoned lock only means an earlier panic.
+        let mut nearest = self
+            .nearest
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        map_terms::evaluate(
+            &self.views,
+            &self.pairs,
+            &mut nearest,
+            &poses,
+            &centres,
+            &self.kernel,
+        )
     }
 
     /// `ξ = (ω, t)` of view `v`'s correction about its sensor origin.

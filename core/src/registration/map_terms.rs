@@ -18,9 +18,10 @@
 //! Work is split into fixed chunks of (pair, source points), summed in chunk order: the
 //! result is identical at any thread count.
 
-use nalgebra::{DMatrix, DVector, Matrix3, Matrix3x6, Matrix6, Point3, Vector3, Vector6};
+use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Point3, Vector3, Vector6};
 use rayon::prelude::*;
 
+use super::map_correspondences::PairNearest;
 use super::map_view::MapView;
 use crate::math::Pose;
 
@@ -126,10 +127,12 @@ struct Sums {
 }
 
 /// Evaluates the data term of `pairs` at the poses `poses` (view → world), the
-/// perturbation of view `v` being centred at `centres[v]` (world).
+/// perturbation of view `v` being centred at `centres[v]` (world); `nearest` holds each
+/// pair's correspondences, brought up to date for `poses` first.
 pub(crate) fn evaluate(
     views: &[MapView],
     pairs: &[Pair],
+    nearest: &mut [PairNearest],
     poses: &[Pose],
     centres: &[Point3<f64>],
     kernel: &Kernel,
@@ -139,9 +142,10 @@ pub(crate) fn evaluate(
         .enumerate()
         .flat_map(|(p, pair)| (0..pair.used(views).div_ceil(CHUNK)).map(move |c| (p, c)))
         .collect();
+    super::map_correspondences::update(nearest, views, pairs, poses);
     let sums: Vec<Sums> = items
         .par_iter()
-        .map(|&(p, c)| chunk_sums(views, &pairs[p], c, poses, centres, kernel))
+        .map(|&(p, c)| chunk_sums(views, &pairs[p], &nearest[p], c, poses, centres, kernel))
         .collect();
     let w = views.len();
     let mut term = DataTerm {
@@ -178,15 +182,32 @@ fn add_block(h: &mut DMatrix<f64>, a: usize, b: usize, block: &Matrix6<f64>) {
     view += block;
 }
 
-/// `∂x/∂(ω, t)` of a point `x` moved by a perturbation about `centre`.
-fn jacobian(x: &Point3<f64>, centre: &Point3<f64>) -> Matrix3x6<f64> {
-    let mut j = Matrix3x6::zeros();
-    let r = x - centre;
-    j.fixed_view_mut::<3, 3>(0, 0)
-        .copy_from(&(-r.cross_matrix()));
-    j.fixed_view_mut::<3, 3>(0, 3)
-        .copy_from(&Matrix3::identity());
-    j
+/// `h += sign·J_lᵀ A J_r` for `J = [S, I]`, given `A S_l`, `A S_r` and `A` (symmetric):
+/// `[[S_lᵀ A S_r, (A S_l)ᵀ], [A S_r, A]]`.
+fn add_jtaj(
+    h: &mut Matrix6<f64>,
+    s_left: &Matrix3<f64>,
+    a_s_left: &Matrix3<f64>,
+    a_s_right: &Matrix3<f64>,
+    a: &Matrix3<f64>,
+    sign: f64,
+) {
+    let mut add = |row: usize, col: usize, m: Matrix3<f64>| {
+        let mut block = h.fixed_view_mut::<3, 3>(row, col);
+        block += m * sign;
+    };
+    add(0, 0, s_left.transpose() * a_s_right);
+    add(0, 3, a_s_left.transpose());
+    add(3, 0, *a_s_right);
+    add(3, 3, *a);
+}
+
+/// `g += sign·Jᵀ (A e)` for `J = [S, I]`: `[Sᵀ A e, A e]`.
+fn add_jtae(g: &mut Vector6<f64>, s: &Matrix3<f64>, ae: &Vector3<f64>, sign: f64) {
+    let mut top = g.fixed_rows_mut::<3>(0);
+    top += s.transpose() * ae * sign;
+    let mut bottom = g.fixed_rows_mut::<3>(3);
+    bottom += ae * sign;
 }
 
 /// The noise of a point along its ray `u` (world), or isotropic without one.
@@ -201,6 +222,7 @@ fn ray_covariance(u: &Vector3<f64>, variance: f64) -> Matrix3<f64> {
 fn chunk_sums(
     views: &[MapView],
     pair: &Pair,
+    nearest: &PairNearest,
     chunk: usize,
     poses: &[Pose],
     centres: &[Point3<f64>],
@@ -208,7 +230,6 @@ fn chunk_sums(
 ) -> Sums {
     let (src, dst) = (&views[pair.source], &views[pair.target]);
     let (ps, pt) = (&poses[pair.source], &poses[pair.target]);
-    let to_target = pt.inverse() * ps;
     // The source's sensor (world): it can only have seen target surfaces that face it.
     let eye = ps * src.centre;
     let slide = 0.25 * dst.spacing * dst.spacing;
@@ -233,10 +254,7 @@ fn chunk_sums(
         }
         let i = k * pair.stride;
         let local = src.tree.points()[i];
-        let Some(j) = dst
-            .tree
-            .nearest_within(&(to_target * local), kernel.max_distance)
-        else {
+        let Some((j, _)) = nearest.entries()[k].within(kernel.max_distance) else {
             s.cost += pair.weight * kernel.outlier_cost();
             continue;
         };
@@ -278,14 +296,18 @@ fn chunk_sums(
         s.inliers += 1;
         s.sum_sq += e.norm_squared();
         let w = pair.weight * weight;
-        let jv = jacobian(&x, &centres[pair.source]);
-        let jw = -jacobian(&y, &centres[pair.target]);
-        let (ivj, iwj) = (info * jv, info * jw);
-        s.hvv += jv.transpose() * ivj * w;
-        s.hww += jw.transpose() * iwj * w;
-        s.hvw += jv.transpose() * iwj * w;
-        s.gv += jv.transpose() * (info * e) * w;
-        s.gw += jw.transpose() * (info * e) * w;
+        // J_v = [S_x, I] and J_w = −[S_y, I] with S = −[x − c]× (a perturbation about the
+        // view's centre c): every block of JᵀAJ is a 3×3 product.
+        let a = info * w;
+        let sx = -(x - centres[pair.source]).cross_matrix();
+        let sy = -(y - centres[pair.target]).cross_matrix();
+        let (asx, asy) = (a * sx, a * sy);
+        add_jtaj(&mut s.hvv, &sx, &asx, &asx, &a, 1.0);
+        add_jtaj(&mut s.hww, &sy, &asy, &asy, &a, 1.0);
+        add_jtaj(&mut s.hvw, &sx, &asx, &asy, &a, -1.0);
+        let ae = a * e;
+        add_jtae(&mut s.gv, &sx, &ae, 1.0);
+        add_jtae(&mut s.gw, &sy, &ae, -1.0);
     }
     s
 }

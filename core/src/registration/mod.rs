@@ -49,6 +49,7 @@ mod gpa;
 mod icp;
 mod independent_sets;
 mod map;
+mod map_correspondences;
 mod map_terms;
 mod map_view;
 mod merge;
