@@ -158,12 +158,13 @@ fn short_only_surveys_with_the_camera() {
 fn same_seed_same_report_whatever_the_thread_count() {
     let dir = tempfile::tempdir().unwrap();
     let scene = generated_scene(dir.path());
-    let run = |threads: &str, out: &Path| {
+    let run_with = |threads: &str, out: &Path, extra: &[&str]| {
         let o = std::process::Command::new(env!("CARGO_BIN_EXE_nbv"))
             .env("RAYON_NUM_THREADS", threads)
             .args(["explore", "--scene", &scene, "-o"])
             .arg(out)
             .args(["-q", "--no-pictures"])
+            .args(extra)
             .output()
             .unwrap();
         assert!(o.status.success(), "{}", text(&o.stderr));
@@ -172,6 +173,7 @@ fn same_seed_same_report_whatever_the_thread_count() {
                 .unwrap();
         without_times(&r)
     };
+    let run = |threads: &str, out: &Path| run_with(threads, out, &[]);
     let one = run("1", &dir.path().join("t1"));
     let two = run("2", &dir.path().join("t2"));
     assert_eq!(one, two);
@@ -179,6 +181,28 @@ fn same_seed_same_report_whatever_the_thread_count() {
     let a = std::fs::read(dir.path().join("t1/objects/horse/model.ply")).unwrap();
     let b = std::fs::read(dir.path().join("t2/objects/horse/model.ply")).unwrap();
     assert_eq!(a, b);
+
+    // Without the baselines: the same model and MAP figures, no p-ICP-GPA or ICP figures.
+    let lean = run_with(
+        "2",
+        &dir.path().join("lean"),
+        &["--set", "registration.baselines=false"],
+    );
+    let c = std::fs::read(dir.path().join("lean/objects/horse/model.ply")).unwrap();
+    assert_eq!(a, c);
+    let (full, lean) = (&two["objects"][0], &lean["objects"][0]);
+    assert!(
+        full["error_pgpa"].is_object() && full["error_icp"].is_object(),
+        "{full:#}"
+    );
+    assert!(
+        lean["error_pgpa"].is_null() && lean["error_icp"].is_null(),
+        "{lean:#}"
+    );
+    assert!(lean["coverage_icp"].is_null());
+    for key in ["error_gpa", "error_unregistered", "quality", "coverage"] {
+        assert_eq!(full[key], lean[key], "{key}");
+    }
 }
 
 #[test]

@@ -363,8 +363,12 @@ pub fn evaluate(
             Some(r) => (
                 score(&vec![Pose::identity(); r.views.len()], true, true, &r.views),
                 score(&r.map.poses, r.map.converged, r.map_accepted, &r.views),
-                score(&r.gpa.poses, r.gpa.converged, r.gpa_accepted, &r.views),
-                score(&r.icp.poses, r.icp.converged, r.icp_accepted, &r.views),
+                r.gpa
+                    .as_ref()
+                    .and_then(|g| score(&g.poses, g.converged, r.gpa_accepted, &r.views)),
+                r.icp
+                    .as_ref()
+                    .and_then(|i| score(&i.poses, i.converged, r.icp_accepted, &r.views)),
             ),
             None => (None, None, None, None),
         };
@@ -406,7 +410,7 @@ pub fn evaluate(
             coverage: coverage_of(&model),
             coverage_mid_range: coverage_of(&object.cluster),
             coverage_unregistered: coverage_of(&unregistered),
-            coverage_icp: coverage_of(&object.icp_model()),
+            coverage_icp: object.icp_model().and_then(|m| coverage_of(&m)),
             error_unregistered,
             error_gpa,
             error_pgpa,

@@ -79,6 +79,9 @@ pub struct ExploreConfig {
     /// object's registration and register each object again from the calibrated poses
     /// ([`estimate_hand_eye`](super::estimate_hand_eye)).
     pub calibrate_hand_eye: bool,
+    /// Register each object by the paper's p-ICP-GPA and sequential ICP too, beside the
+    /// model's MAP registration (for comparison only: the model does not use them).
+    pub registration_baselines: bool,
     /// The sensors' noise and pose uncertainty: the MAP registration's weights and priors.
     pub uncertainty: super::PoseUncertainty,
     /// Points per view kept for registration (views are subsampled evenly); 0 keeps all.

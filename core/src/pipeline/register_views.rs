@@ -1,6 +1,7 @@
 //! Register (Figure 2, the last step): each object's phase-1 cluster (the reference) and
 //! its views, by the MAP registration (the model's) with the rig's pose uncertainty, and
-//! by the paper's p-ICP-GPA and sequential ICP beside it, from the same input; and again,
+//! (unless turned off) by the paper's p-ICP-GPA and sequential ICP beside it, from the
+//! same input; and again,
 //! MAP only, with every view's prior centred on the rig's self-calibration.
 
 use super::{
@@ -71,7 +72,8 @@ fn map_accepted(map: &Registration) -> bool {
 }
 
 /// Registers the cluster (reference) and the views with the MAP registration (the
-/// model's), the paper's p-ICP-GPA and sequential ICP, from the same input.
+/// model's) and, when the configuration asks for the baselines, the paper's p-ICP-GPA and
+/// sequential ICP, from the same input.
 pub(super) fn register_object(
     object: &ObjectExploration,
     config: &ExploreConfig,
@@ -81,19 +83,24 @@ pub(super) fn register_object(
     let initial = vec![Pose::identity(); views.len()];
     let models = uncertainty_of(config, workcell).view_models(&views, config.frames_per_view);
     let map = register_with_models(&views, &initial, &models, &params(config, Method::Map))?;
-    let gpa = register(&views, &initial, &params(config, Method::Gpa))?;
-    let icp = register(
-        &views,
-        &initial,
-        &params(
+    let (gpa, icp) = if config.registration_baselines {
+        let icp_params = params(
             config,
             Method::SequentialIcp {
                 point_to_plane: false,
             },
-        ),
-    )?;
-    let accepted = |r: &Registration| {
-        r.converged && within_correction(&views, &r.poses, config.max_correction)
+        );
+        (
+            Some(register(&views, &initial, &params(config, Method::Gpa))?),
+            Some(register(&views, &initial, &icp_params)?),
+        )
+    } else {
+        (None, None)
+    };
+    let accepted = |r: &Option<Registration>| {
+        r.as_ref().is_some_and(|r| {
+            r.converged && within_correction(&views, &r.poses, config.max_correction)
+        })
     };
     Ok(ObjectRegistration {
         models,

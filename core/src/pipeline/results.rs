@@ -155,15 +155,16 @@ pub struct ObjectRegistration {
     /// Whether [`map`](Self::map) is a calibrated pass (its priors centred on the
     /// self-calibrated poses).
     pub calibrated: bool,
-    /// The paper's p-ICP-GPA.
-    pub gpa: Registration,
-    /// Sequential ICP (view h onto view h−1).
-    pub icp: Registration,
+    /// The paper's p-ICP-GPA (`None` unless the baselines were asked for:
+    /// [`ExploreConfig::registration_baselines`](super::ExploreConfig::registration_baselines)).
+    pub gpa: Option<Registration>,
+    /// Sequential ICP (view h onto view h−1; `None` as [`gpa`](Self::gpa)).
+    pub icp: Option<Registration>,
     /// Whether the MAP registration was accepted (converged, objective lowered).
     pub map_accepted: bool,
-    /// Whether p-ICP-GPA converged within the correction bound.
+    /// Whether p-ICP-GPA ran and converged within the correction bound.
     pub gpa_accepted: bool,
-    /// Whether sequential ICP converged within the correction bound.
+    /// Whether sequential ICP ran and converged within the correction bound.
     pub icp_accepted: bool,
 }
 
@@ -205,19 +206,34 @@ impl ObjectExploration {
         }
     }
 
-    /// The model by the paper's p-ICP-GPA (as acquired when it was rejected).
-    pub fn gpa_model(&self) -> PointCloud {
-        match &self.registration {
-            Some(r) if !r.gpa_accepted => self.unregistered_model(),
-            _ => self.merged_with(|r| &r.gpa),
-        }
+    /// The model by the paper's p-ICP-GPA (as acquired when it was rejected; `None` when
+    /// it did not run).
+    pub fn gpa_model(&self) -> Option<PointCloud> {
+        self.baseline_model(|r| r.gpa.as_ref().map(|g| (g, r.gpa_accepted)))
     }
 
-    /// The model by the sequential ICP baseline (as acquired when it was rejected).
-    pub fn icp_model(&self) -> PointCloud {
+    /// The model by the sequential ICP baseline (as acquired when it was rejected; `None`
+    /// when it did not run).
+    pub fn icp_model(&self) -> Option<PointCloud> {
+        self.baseline_model(|r| r.icp.as_ref().map(|g| (g, r.icp_accepted)))
+    }
+
+    fn baseline_model(
+        &self,
+        pick: impl Fn(&ObjectRegistration) -> Option<(&Registration, bool)>,
+    ) -> Option<PointCloud> {
         match &self.registration {
-            Some(r) if !r.icp_accepted => self.unregistered_model(),
-            _ => self.merged_with(|r| &r.icp),
+            Some(r) => {
+                let (registration, accepted) = pick(r)?;
+                Some(if accepted {
+                    registration
+                        .merged(&r.views)
+                        .unwrap_or_else(|_| self.cluster.clone())
+                } else {
+                    self.unregistered_model()
+                })
+            }
+            None => Some(self.cluster.clone()),
         }
     }
 

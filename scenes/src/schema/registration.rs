@@ -32,6 +32,11 @@ pub struct Registration {
     /// camera (and the joint offsets) from every object's registration, then register
     /// each object again from the calibrated poses. Default true.
     pub calibrate_hand_eye: bool,
+    /// Run the paper's p-ICP-GPA and sequential ICP beside the model's MAP registration,
+    /// for the report's comparison (`error_pgpa`, `error_icp`) and Table III. They do not
+    /// change the model; turning them off makes an episode several times cheaper in CPU
+    /// (sweeps that tune exploration, not registration). Default true.
+    pub baselines: bool,
 }
 
 impl Default for Registration {
@@ -45,6 +50,7 @@ impl Default for Registration {
             max_correction_m: 0.03,
             align_to_workcell: true,
             calibrate_hand_eye: true,
+            baselines: true,
         }
     }
 }
