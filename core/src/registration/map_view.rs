@@ -86,7 +86,6 @@ impl MapView {
         };
         let centre = cloud.origin_centroid().unwrap_or_else(|| tree.centroid());
         let k = NonZeroUsize::new(k.max(3)).unwrap_or(NonZeroUsize::MIN);
-        let two = NonZeroUsize::new(2).unwrap_or(NonZeroUsize::MIN);
         let per_point: Vec<(Surfel, f64)> = (0..points.len().div_ceil(CHUNK))
             .into_par_iter()
             .map(|c| {
@@ -95,8 +94,9 @@ impl MapView {
                         let near = tree.nearest_k(&points[i], k);
                         let surfel =
                             fit_surfel(near.iter().map(|&j| points[j]), sigmas[i], &rays[i]);
-                        let gap = tree
-                            .nearest_k(&points[i], two)
+                        // The nearest point is the point itself (or a duplicate of it):
+                        // the second nearest gives the gap to a neighbour.
+                        let gap = near
                             .get(1)
                             .map_or(0.0, |&j| (points[j] - points[i]).norm());
                         (surfel, gap)
