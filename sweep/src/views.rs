@@ -7,8 +7,8 @@
 use crate::error::{Context, Result};
 use crate::matching::true_object_of;
 use nbv_core::math::pose_to_xyz_rpy;
-use nbv_core::nbv::{NextBestView, VisitedViews};
-use nbv_core::occupancy::ReducedMap;
+use nbv_core::nbv::{GainMap, NextBestView, VisitedViews};
+use nbv_core::occupancy::{OcclusionDistances, ReducedMap};
 use nbv_core::pipeline::{
     ExploreMode, NoObserver, ObjectRegion, ViewCandidates, plan_clearing_start, view_candidates,
     viewing_centre,
@@ -77,6 +77,15 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
     let reduced = ReducedMap::from_grid(&phase.grid);
     let nbv = NextBestView::new(config.nbv, rig.camera.spec())?;
     let start = rig.arm.joints()?;
+    let occlusion = if config.nbv.objective.needs_occlusion() {
+        let mut marks = OcclusionDistances::new(phase.grid.geometry().len());
+        marks
+            .mark_cloud(&phase.grid, &phase.cloud)
+            .context("marking the voxels behind surface")?;
+        Some(marks)
+    } else {
+        None
+    };
     let mut out = Vec::new();
     let mut query: u64 = 0;
     for (j, cluster) in segmentation.clusters.iter().enumerate() {
@@ -90,11 +99,17 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
         let region =
             ObjectRegion::of_cluster(cluster, segmentation.table.as_ref(), config.object_margin);
         let centre = viewing_centre(&cloud, &[], &region).context("an empty cluster")?;
+        let gains = GainMap {
+            grid: &phase.grid,
+            occlusion: occlusion.as_ref(),
+        };
         let ViewCandidates { mut planner, list } = view_candidates(
             &robot,
             &config,
             &nbv,
             &reduced,
+            Some(&gains),
+            &start,
             &centre,
             &VisitedViews::default(),
         )?;

@@ -49,6 +49,9 @@ pub struct NbvParams {
     pub visibility: VisibilityForm,
     /// What ranks the candidates: eq. (4) (default) or an information gain over the grid.
     pub objective: Objective,
+    /// λ of Isler's utility `G/ΣG − λ·c/Σc` ([`apply_movement_cost`](super::apply_movement_cost));
+    /// 0 (default) ranks by G alone.
+    pub cost_weight: f64,
 }
 
 impl Default for NbvParams {
@@ -60,6 +63,7 @@ impl Default for NbvParams {
             roll_candidates: 1,
             visibility: VisibilityForm::Dda,
             objective: Objective::Paper,
+            cost_weight: 0.0,
         }
     }
 }
@@ -173,6 +177,13 @@ impl NextBestView {
     pub fn new(params: NbvParams, camera: &DepthCameraSpec) -> Result<Self, NbvError> {
         params.sphere.validate()?;
         params.weights.validate()?;
+        if !(params.cost_weight.is_finite() && params.cost_weight >= 0.0) {
+            return Err(NbvError::InvalidParameter {
+                name: "cost_weight",
+                value: params.cost_weight,
+                reason: "must be finite and >= 0",
+            });
+        }
         if params.roll_candidates == 0 {
             return Err(NbvError::InvalidParameter {
                 name: "roll_candidates",
@@ -484,6 +495,10 @@ mod tests {
                 ..d
             },
             NbvParams { ray_stride: 0, ..d },
+            NbvParams {
+                cost_weight: -0.5,
+                ..d
+            },
             NbvParams {
                 weights: ScoreWeights {
                     unknown: -1.0,

@@ -14,6 +14,7 @@ use nalgebra::Point3;
 use rayon::prelude::*;
 
 use super::{OccupancyError, OccupancyGrid};
+use crate::cloud::PointCloud;
 
 /// How far behind a measured point voxels are marked (m): the reference's
 /// `occlusion_update_dist_m`.
@@ -114,6 +115,23 @@ impl OcclusionDistances {
             }
         }
         Ok(())
+    }
+}
+
+impl OcclusionDistances {
+    /// [`mark_behind`](Self::mark_behind) for a scan given as a cloud with its `origins`
+    /// column; a cloud without origins marks nothing.
+    pub fn mark_cloud(
+        &mut self,
+        grid: &OccupancyGrid,
+        cloud: &PointCloud,
+    ) -> Result<(), OccupancyError> {
+        match cloud.origins.as_deref() {
+            Some(origins) if origins.len() == cloud.points.len() => {
+                self.mark_behind(grid, origins, &cloud.points)
+            }
+            _ => Ok(()),
+        }
     }
 }
 

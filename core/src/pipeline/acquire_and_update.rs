@@ -9,7 +9,7 @@ use crate::cloud::{PlaneFit, PointCloud};
 use crate::kinematics::Joints;
 use crate::math::Pose;
 use crate::nbv::InformationGain;
-use crate::occupancy::OccupancyGrid;
+use crate::occupancy::{OcclusionDistances, OccupancyGrid};
 use crate::rig::{
     DepthCamera, DepthFrame, Rig, RigError, average_frames, depth_frame_to_cloud, sensor_pose,
 };
@@ -29,13 +29,15 @@ pub(super) struct Observation {
     pub gain: InformationGain,
 }
 
-/// Acquires at the arm's pose and updates `grid`; `predicted` are the voxels the view was
-/// chosen for (the gain's domain), `region` and `table` what the object's points are cut
-/// to.
+/// Acquires at the arm's pose and updates `grid` (and `occlusion`, the distances behind
+/// surface, when kept); `predicted` are the voxels the view was chosen for (the gain's
+/// domain), `region` and `table` what the object's points are cut to.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn acquire_and_update(
     rig: &mut Rig<'_>,
     config: &ExploreConfig,
     grid: &mut OccupancyGrid,
+    occlusion: Option<&mut OcclusionDistances>,
     predicted: &[usize],
     region: &ObjectRegion,
     table: Option<&PlaneFit>,
@@ -51,6 +53,9 @@ pub(super) fn acquire_and_update(
     let gain = timed(&mut times.mapping, || -> Result<_, PipelineError> {
         let before = grid.clone();
         grid.insert_cloud(&frame, rig.camera.spec().range[1])?;
+        if let Some(marks) = occlusion {
+            marks.mark_cloud(grid, &frame)?;
+        }
         Ok(InformationGain::between(&before, grid, predicted)?)
     })?;
     let mut cloud = region.crop(&frame);

@@ -5,8 +5,8 @@
 
 use super::{AcquiredView, ExploreConfig, ObjectRegion, PipelineError};
 use crate::cloud::PointCloud;
-use crate::kinematics::{IkSolution, Robot};
-use crate::nbv::{NextBestView, ViewpointList, VisitedViews};
+use crate::kinematics::{IkSolution, Joints, Robot};
+use crate::nbv::{GainMap, NextBestView, ViewpointList, VisitedViews, apply_movement_cost};
 use crate::occupancy::ReducedMap;
 use crate::planning::{CollisionWorld, MotionPlanner};
 use nalgebra::Point3;
@@ -20,22 +20,28 @@ pub struct ViewCandidates {
 }
 
 /// Algorithm 2 around `centre` on the reduced map `reduced`: the viewpoints not yet
-/// `visited`, scored by eq. (4), each with the inverse-kinematics solutions that are free
-/// of self-collision, the known obstacles and the map (MoveIt's collision-aware IK: a
-/// viewpoint none of whose solutions is free is unreachable, and the next roll about the
-/// optical axis is tried).
+/// `visited`, scored by the objective (eq. (4) by default; an information gain reads
+/// `gains`), each with the inverse-kinematics solutions that are free of self-collision,
+/// the known obstacles and the map (MoveIt's collision-aware IK: a viewpoint none of whose
+/// solutions is free is unreachable, and the next roll about the optical axis is tried).
+/// With a movement-cost weight, ranked by Isler's utility from the arm's joints `start`.
 pub fn view_candidates(
     robot: &Robot,
     config: &ExploreConfig,
     nbv: &NextBestView,
     reduced: &ReducedMap,
+    gains: Option<&GainMap<'_>>,
+    start: &Joints,
     centre: &Point3<f64>,
     visited: &VisitedViews,
 ) -> Result<ViewCandidates, PipelineError> {
     let world = CollisionWorld::new(robot, &config.obstacles)?.with_reduced_map(reduced);
     let planner = MotionPlanner::new(world, config.planner)?;
     let usable = |s: &IkSolution| !planner.world().in_collision(&s.joints);
-    let list = nbv.candidates_around_where(robot, reduced, centre, visited, &usable)?;
+    let mut list = nbv.candidates_scored(robot, reduced, gains, centre, visited, &usable)?;
+    if nbv.params.cost_weight > 0.0 {
+        apply_movement_cost(&mut list.candidates, start, nbv.params.cost_weight);
+    }
     Ok(ViewCandidates { planner, list })
 }
 

@@ -11,6 +11,7 @@ use super::{
     ObjectExploration, ObjectRegion, ObjectStop, PipelineError, StepTimes,
 };
 use crate::nbv::NextBestView;
+use crate::occupancy::OcclusionDistances;
 use crate::rig::Rig;
 
 /// Runs the method (or the baseline of `config.mode`) on a rig: the phase-1 sweep and
@@ -37,6 +38,14 @@ pub fn explore(
     let mut ep = Episode::new(rig, config, observer);
     let (phase_report, segmentation) = super::phase_one::run(&mut ep)?;
     let mut grid = phase_report.grid.clone();
+    // The distances behind surface, kept only for the objectives that read them.
+    let mut occlusion = if config.nbv.objective.needs_occlusion() {
+        let mut marks = OcclusionDistances::new(grid.geometry().len());
+        marks.mark_cloud(&grid, &phase_report.cloud)?;
+        Some(marks)
+    } else {
+        None
+    };
     let mut objects = Vec::new();
     let nbv = NextBestView::new(config.nbv, ep.rig.camera.spec())?;
     for (j, cluster) in segmentation.clusters.iter().enumerate() {
@@ -58,7 +67,15 @@ pub fn explore(
         };
         if config.mode != ExploreMode::MidOnly {
             let table = segmentation.table.as_ref();
-            explore_object(&mut ep, &nbv, &mut grid, &region, table, &mut object)?;
+            explore_object(
+                &mut ep,
+                &nbv,
+                &mut grid,
+                &mut occlusion,
+                &region,
+                table,
+                &mut object,
+            )?;
         }
         let stop = match object.stop {
             ObjectStop::Rule(r) => Some(r),

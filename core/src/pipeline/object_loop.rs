@@ -14,16 +14,18 @@ use super::{
 };
 use crate::cloud::PlaneFit;
 use crate::math::Pose;
-use crate::nbv::{InformationGain, NextBestView, StopReason, VisitedViews};
-use crate::occupancy::{OccupancyGrid, ReducedMap};
+use crate::nbv::{GainMap, InformationGain, NextBestView, StopReason, VisitedViews};
+use crate::occupancy::{OcclusionDistances, OccupancyGrid, ReducedMap};
 use crate::rig::RigError;
 
 /// Explores `object` (its cluster in `region`, standing on `table`) until a stop; the
-/// views go into `object`, the collisions into the episode.
+/// views go into `object`, the collisions into the episode. `occlusion` (the distances
+/// behind surface, kept when the objective reads them) is updated with the grid.
 pub(super) fn explore_object(
     ep: &mut Episode<'_, '_>,
     nbv: &NextBestView,
     grid: &mut OccupancyGrid,
+    occlusion: &mut Option<OcclusionDistances>,
     region: &ObjectRegion,
     table: Option<&PlaneFit>,
     object: &mut ObjectExploration,
@@ -35,6 +37,7 @@ pub(super) fn explore_object(
     let mut failures_since_view = 0;
     let mut attempt: u64 = 0;
     let mut retreated = false;
+    let mut first_best: Option<f64> = None;
     loop {
         if object.views.len() >= config.max_views_per_object {
             object.stop = ObjectStop::MaxViews;
@@ -47,7 +50,21 @@ pub(super) fn explore_object(
         } = timed(&mut object.times.nbv, || -> Result<_, PipelineError> {
             let centre = viewing_centre(&object.cluster, &object.views, region)
                 .ok_or_else(|| PipelineError::Config(format!("object {j} has no point")))?;
-            view_candidates(&ep.rig.robot, config, nbv, &reduced, &centre, &visited)
+            let gains = GainMap {
+                grid,
+                occlusion: occlusion.as_ref(),
+            };
+            let start = ep.rig.arm.joints()?;
+            view_candidates(
+                &ep.rig.robot,
+                config,
+                nbv,
+                &reduced,
+                Some(&gains),
+                &start,
+                &centre,
+                &visited,
+            )
         })?;
         object.candidates_evaluated += list.candidates.len();
         ep.observer.event(&ExploreEvent::Candidates {
@@ -60,6 +77,20 @@ pub(super) fn explore_object(
         {
             object.stop = ObjectStop::Rule(reason);
             return Ok(());
+        }
+        let best = list
+            .candidates
+            .iter()
+            .map(|c| c.score)
+            .fold(f64::NEG_INFINITY, f64::max);
+        match first_best {
+            None => first_best = Some(best),
+            Some(first) => {
+                if let Some(reason) = config.stop.check_relative(first, best) {
+                    object.stop = ObjectStop::Rule(reason);
+                    return Ok(());
+                }
+            }
         }
         let mut taken = false;
         while let Some(candidate) = list.pop_first() {
@@ -114,6 +145,7 @@ pub(super) fn explore_object(
                 ep.rig,
                 config,
                 grid,
+                occlusion.as_mut(),
                 &candidate.visible.all(),
                 region,
                 table,
