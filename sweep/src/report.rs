@@ -79,7 +79,7 @@ pub struct RegistrationScore {
 pub struct ViewEntry {
     /// Sensor position (m) and roll/pitch/yaw (rad) of the viewpoint.
     pub viewpoint: [f64; 6],
-    /// Eq. (4) score when chosen.
+    /// The objective's value G(v) when chosen (eq. (4) by default).
     pub score: f64,
     /// Predicted |O_v| unknown, occupied.
     pub predicted_unknown: usize,

@@ -109,7 +109,7 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
             &nbv,
             &reduced,
             Some(&gains),
-            &start,
+            Some(&start),
             &centre,
             &VisitedViews::default(),
         )?;

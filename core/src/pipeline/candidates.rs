@@ -24,14 +24,14 @@ pub struct ViewCandidates {
 /// `gains`), each with the inverse-kinematics solutions that are free of self-collision,
 /// the known obstacles and the map (MoveIt's collision-aware IK: a viewpoint none of whose
 /// solutions is free is unreachable, and the next roll about the optical axis is tried).
-/// With a movement-cost weight, ranked by Isler's utility from the arm's joints `start`.
+/// With a movement-cost weight and the arm's joints `start`, ranked by Isler's utility.
 pub fn view_candidates(
     robot: &Robot,
     config: &ExploreConfig,
     nbv: &NextBestView,
     reduced: &ReducedMap,
     gains: Option<&GainMap<'_>>,
-    start: &Joints,
+    start: Option<&Joints>,
     centre: &Point3<f64>,
     visited: &VisitedViews,
 ) -> Result<ViewCandidates, PipelineError> {
@@ -39,7 +39,9 @@ pub fn view_candidates(
     let planner = MotionPlanner::new(world, config.planner)?;
     let usable = |s: &IkSolution| !planner.world().in_collision(&s.joints);
     let mut list = nbv.candidates_scored(robot, reduced, gains, centre, visited, &usable)?;
-    if nbv.params.cost_weight > 0.0 {
+    if let Some(start) = start
+        && nbv.params.cost_weight > 0.0
+    {
         apply_movement_cost(&mut list.candidates, start, nbv.params.cost_weight);
     }
     Ok(ViewCandidates { planner, list })

@@ -54,14 +54,19 @@ pub(super) fn explore_object(
                 grid,
                 occlusion: occlusion.as_ref(),
             };
-            let start = ep.rig.arm.joints()?;
+            // The arm's joints only when the movement cost reads them (a device round trip).
+            let start = if nbv.params.cost_weight > 0.0 {
+                Some(ep.rig.arm.joints()?)
+            } else {
+                None
+            };
             view_candidates(
                 &ep.rig.robot,
                 config,
                 nbv,
                 &reduced,
                 Some(&gains),
-                &start,
+                start.as_ref(),
                 &centre,
                 &visited,
             )
