@@ -403,7 +403,7 @@ pub fn evaluate(
         let coverage_by_view = match truth {
             Some(_) => coverage_after_each_view(object)
                 .iter()
-                .filter_map(|m| coverage_of(m))
+                .filter_map(&coverage_of)
                 .collect(),
             None => Vec::new(),
         };

@@ -7,11 +7,10 @@
 use crate::error::{Context, Result};
 use crate::matching::true_object_of;
 use nbv_core::math::pose_to_xyz_rpy;
-use nbv_core::nbv::{GainMap, NextBestView, VisitedViews};
-use nbv_core::occupancy::{OcclusionDistances, ReducedMap};
+use nbv_core::nbv::{NextBestView, VisitedViews};
 use nbv_core::pipeline::{
-    ExploreMode, NoObserver, ObjectRegion, ViewCandidates, plan_clearing_start, view_candidates,
-    viewing_centre,
+    ExplorationMap, ExploreMode, NoObserver, ObjectRegion, ViewCandidates, plan_clearing_start,
+    view_candidates, viewing_centre,
 };
 use nbv_core::rig::{Arm, DepthCamera, RigError};
 use nbv_sim::rig::SimRig;
@@ -74,18 +73,11 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
     let mut rig = SimRig::from_scene(scene).context("building the twin")?;
     let (phase, segmentation) = rig.phase_one(&config, &mut NoObserver)?;
     let (robot, _) = rig.robot_and_base();
-    let reduced = ReducedMap::from_grid(&phase.grid);
+    let map =
+        ExplorationMap::after_phase_one(phase.grid.clone(), &phase.cloud, config.nbv.objective)
+            .context("the map after phase 1")?;
     let nbv = NextBestView::new(config.nbv, rig.camera.spec())?;
     let start = rig.arm.joints()?;
-    let occlusion = if config.nbv.objective.needs_occlusion() {
-        let mut marks = OcclusionDistances::new(phase.grid.geometry().len());
-        marks
-            .mark_cloud(&phase.grid, &phase.cloud)
-            .context("marking the voxels behind surface")?;
-        Some(marks)
-    } else {
-        None
-    };
     let mut out = Vec::new();
     let mut query: u64 = 0;
     for (j, cluster) in segmentation.clusters.iter().enumerate() {
@@ -99,16 +91,11 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
         let region =
             ObjectRegion::of_cluster(cluster, segmentation.table.as_ref(), config.object_margin);
         let centre = viewing_centre(&cloud, &[], &region).context("an empty cluster")?;
-        let gains = GainMap {
-            grid: &phase.grid,
-            occlusion: occlusion.as_ref(),
-        };
         let ViewCandidates { mut planner, list } = view_candidates(
             &robot,
             &config,
             &nbv,
-            &reduced,
-            Some(&gains),
+            &map,
             Some(&start),
             &centre,
             &VisitedViews::default(),

@@ -91,7 +91,7 @@ impl OcclusionDistances {
             .map(|(o, p)| -> Result<Vec<(usize, u16)>, OccupancyError> {
                 let dir = p - o;
                 let mut out = Vec::new();
-                if !(dir.norm() > 0.0) {
+                if dir.norm() <= 0.0 || !dir.norm().is_finite() {
                     return Ok(out);
                 }
                 let own = g.voxel_of(p).and_then(|v| g.linear(v));

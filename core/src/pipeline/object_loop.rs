@@ -9,23 +9,20 @@ use super::episode::Episode;
 use super::plan_and_execute::{plan_clearing_start, retrace};
 use super::step_timer::timed;
 use super::{
-    AcquiredView, ExploreEvent, ExploreObserver, ObjectExploration, ObjectRegion, ObjectStop,
-    PipelineError, ViewFailure,
+    AcquiredView, ExplorationMap, ExploreEvent, ExploreObserver, ObjectExploration, ObjectRegion,
+    ObjectStop, PipelineError, ViewFailure,
 };
 use crate::cloud::PlaneFit;
 use crate::math::Pose;
-use crate::nbv::{GainMap, InformationGain, NextBestView, StopReason, VisitedViews};
-use crate::occupancy::{OcclusionDistances, OccupancyGrid, ReducedMap};
+use crate::nbv::{InformationGain, NextBestView, StopReason, VisitedViews};
 use crate::rig::RigError;
 
 /// Explores `object` (its cluster in `region`, standing on `table`) until a stop; the
-/// views go into `object`, the collisions into the episode. `occlusion` (the distances
-/// behind surface, kept when the objective reads them) is updated with the grid.
+/// views go into `object`, the collisions into the episode, each view into `map`.
 pub(super) fn explore_object(
     ep: &mut Episode<'_, '_>,
     nbv: &NextBestView,
-    grid: &mut OccupancyGrid,
-    occlusion: &mut Option<OcclusionDistances>,
+    map: &mut ExplorationMap,
     region: &ObjectRegion,
     table: Option<&PlaneFit>,
     object: &mut ObjectExploration,
@@ -43,17 +40,12 @@ pub(super) fn explore_object(
             object.stop = ObjectStop::MaxViews;
             return Ok(());
         }
-        let reduced = timed(&mut object.times.mapping, || ReducedMap::from_grid(grid));
         let ViewCandidates {
             mut planner,
             mut list,
         } = timed(&mut object.times.nbv, || -> Result<_, PipelineError> {
             let centre = viewing_centre(&object.cluster, &object.views, region)
                 .ok_or_else(|| PipelineError::Config(format!("object {j} has no point")))?;
-            let gains = GainMap {
-                grid,
-                occlusion: occlusion.as_ref(),
-            };
             // The arm's joints only when the movement cost reads them (a device round trip).
             let start = if nbv.params.cost_weight > 0.0 {
                 Some(ep.rig.arm.joints()?)
@@ -64,8 +56,7 @@ pub(super) fn explore_object(
                 &ep.rig.robot,
                 config,
                 nbv,
-                &reduced,
-                Some(&gains),
+                map,
                 start.as_ref(),
                 &centre,
                 &visited,
@@ -149,8 +140,7 @@ pub(super) fn explore_object(
             let seen = acquire_and_update(
                 ep.rig,
                 config,
-                grid,
-                occlusion.as_mut(),
+                map,
                 &candidate.visible.all(),
                 region,
                 table,
