@@ -300,8 +300,9 @@ pub struct Totals {
     pub mean_coverage: f64,
     /// Joint-space length (rad) of the planned paths to all views taken.
     pub joint_distance: f64,
-    /// Next-best-view time (candidates scored, s) per view taken.
-    pub nbv_seconds_per_view: f64,
+    /// Next-best-view time (candidates scored, s) per view taken (a time: named so that
+    /// report comparisons that drop timings drop it).
+    pub nbv_time_per_view: f64,
     /// Mean alignment error of the model's registration over objects (m).
     pub mean_error_gpa: Option<f64>,
     /// Mean sequential ICP error (m).
@@ -464,7 +465,7 @@ pub fn evaluate(
         mean_f_score_unregistered: f_scores(|o| o.quality_unregistered),
         mean_coverage: mean(coverages).unwrap_or(0.0),
         joint_distance: objects.iter().map(|o| o.joint_distance).sum(),
-        nbv_seconds_per_view: {
+        nbv_time_per_view: {
             let views: usize = objects.iter().map(|o| o.views.len()).sum();
             if views == 0 {
                 0.0

@@ -253,7 +253,7 @@ impl EpisodeRow {
                     .map(|o| o.coverage_by_view.as_slice()),
             ),
             joint_distance: report.totals.joint_distance,
-            nbv_time_per_view: report.totals.nbv_seconds_per_view,
+            nbv_time_per_view: report.totals.nbv_time_per_view,
             time_s,
         }
     }
