@@ -36,6 +36,13 @@ pub struct Times {
     total: f64,
 }
 
+impl Times {
+    /// The next-best-view step's time (s): candidates, their IK goals and their scores.
+    pub fn nbv(&self) -> f64 {
+        self.nbv
+    }
+}
+
 impl From<&StepTimes> for Times {
     fn from(t: &StepTimes) -> Self {
         Self {
@@ -300,9 +307,6 @@ pub struct Totals {
     pub mean_coverage: f64,
     /// Joint-space length (rad) of the planned paths to all views taken.
     pub joint_distance: f64,
-    /// Next-best-view time (candidates scored, s) per view taken (a time: named so that
-    /// report comparisons that drop timings drop it).
-    pub nbv_time_per_view: f64,
     /// Mean alignment error of the model's registration over objects (m).
     pub mean_error_gpa: Option<f64>,
     /// Mean sequential ICP error (m).
@@ -465,14 +469,6 @@ pub fn evaluate(
         mean_f_score_unregistered: f_scores(|o| o.quality_unregistered),
         mean_coverage: mean(coverages).unwrap_or(0.0),
         joint_distance: objects.iter().map(|o| o.joint_distance).sum(),
-        nbv_time_per_view: {
-            let views: usize = objects.iter().map(|o| o.views.len()).sum();
-            if views == 0 {
-                0.0
-            } else {
-                total_times.nbv / views as f64
-            }
-        },
         mean_error_gpa: mean(
             objects
                 .iter()

@@ -253,7 +253,11 @@ impl EpisodeRow {
                     .map(|o| o.coverage_by_view.as_slice()),
             ),
             joint_distance: report.totals.joint_distance,
-            nbv_time_per_view: report.totals.nbv_time_per_view,
+            nbv_time_per_view: if views > 0 {
+                report.totals.times.nbv() / views as f64
+            } else {
+                0.0
+            },
             time_s,
         }
     }
