@@ -266,6 +266,7 @@ fn information_gain_of_a_simulated_view() {
     let kl_rule = StopRule {
         gain_threshold: 0.5,
         measure: GainMeasure::BernoulliKl,
+        ..StopRule::default()
     };
     assert_eq!(kl_rule.check(Some(&gain), list.candidates.len() - 1), None);
     // Every ray of D whose real return lies within range and not in front of the voxel it

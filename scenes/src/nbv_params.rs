@@ -24,6 +24,8 @@ impl Nbv {
             },
             ray_stride: self.ray_subsample.max(1) as usize,
             roll_candidates: self.rolls.max(1) as usize,
+            objective: self.objective,
+            cost_weight: self.cost_weight,
             ..NbvParams::default()
         }
     }
@@ -42,6 +44,7 @@ impl Nbv {
                 GainMeasureName::Eq5 => GainMeasure::Eq5,
                 GainMeasureName::Kl => GainMeasure::BernoulliKl,
             },
+            relative_gain: self.relative_gain,
         }
     }
 }

@@ -473,6 +473,14 @@ fn parameters(s: &Scene, c: &Check) -> Result<(), SceneError> {
     )?;
     c.at_least("nbv.max_views_per_object", v.max_views_per_object.into(), 1)?;
     c.at_least("nbv.frames_per_view", v.frames_per_view.into(), 1)?;
+    c.within("nbv.cost_weight", v.cost_weight, 0.0, f64::MAX, "≥ 0")?;
+    c.within(
+        "nbv.relative_gain",
+        v.relative_gain,
+        0.0,
+        1.0 - f64::EPSILON,
+        "[0, 1)",
+    )?;
     // Planner.
     let p = &s.planner;
     c.at_least("planner.max_iterations", p.max_iterations.into(), 1)?;

@@ -283,3 +283,29 @@ fn malformed_urdf_and_home_outside_limits_are_robot_errors() {
         "{problem}"
     );
 }
+
+#[test]
+fn bad_objective_and_cost_weight() {
+    let with = |line: &str| env1().replace("objective = \"paper\"\n", &format!("{line}\n"));
+    // An unknown objective: a parse error naming the file, the key and the names allowed.
+    let err = check(&with("objective = \"rear-side\"")).unwrap_err();
+    let msg = err.to_string();
+    assert!(matches!(err, SceneError::Parse { .. }), "{msg}");
+    assert!(msg.starts_with("bad.toml: "), "{msg}");
+    assert!(
+        msg.contains("objective") && msg.contains("rear-side-entropy"),
+        "{msg}"
+    );
+    // A negative movement-cost weight, a relative-gain ratio of 1.
+    let text = env1().replace("cost_weight = 0.0", "cost_weight = -0.5");
+    let (key, problem) = invalid(&text);
+    assert_eq!(key, "nbv.cost_weight");
+    assert!(matches!(problem, Problem::OutOfRange { .. }), "{problem}");
+    let text = env1().replace("relative_gain = 0.0", "relative_gain = 1.0");
+    assert_eq!(invalid(&text).0, "nbv.relative_gain");
+    // Every objective's name loads.
+    for o in nbv_core::nbv::Objective::ALL {
+        let scene = check(&with(&format!("objective = \"{}\"", o.name()))).unwrap();
+        assert_eq!(scene.nbv.objective, o);
+    }
+}

@@ -46,6 +46,9 @@ pub struct Summary {
     pub registration: Vec<RegistrationLine>,
     /// Per error level: missed, split and phantom objects, collisions, F-scores.
     pub robustness: Vec<RobustnessLine>,
+    /// Per view objective (when `nbv.objective` is swept) and scene group: coverage after
+    /// each view, views to 80 % / 90 %, coverage, precision, distance, scoring time.
+    pub objectives: Vec<crate::objectives::ObjectiveLine>,
     /// The gates and their outcomes.
     pub gates: Vec<GateResult>,
 }
@@ -231,6 +234,7 @@ pub fn finish(
         best_by_registration_error: best_setting(rows, |r| r.error_gpa, false),
         registration: registration_table(rows),
         robustness: robustness_table(rows),
+        objectives: crate::objectives::objective_table(rows),
         gates: gate_results,
     };
     write_json(&out.join("summary.json"), &summary)?;

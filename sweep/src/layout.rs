@@ -94,6 +94,7 @@ pub fn load_rows(dirs: &[PathBuf]) -> Result<Vec<EpisodeRow>> {
             if let Some(old) = rows.iter().find(|r| r.id == row.id) {
                 let same = EpisodeRow {
                     time_s: old.time_s,
+                    nbv_time_per_view: old.nbv_time_per_view,
                     ..row.clone()
                 } == *old;
                 if !same {

@@ -11,7 +11,8 @@
 //! - [`grid`]: a sweep's grid file and its episodes; [`shard`]: `I/N`.
 //! - [`engine`]: run, resume and merge a sweep; [`layout`]: the sweep directory.
 //! - [`results`]: rows, CSV, aggregates, best settings, registration and robustness
-//!   tables; [`gate`]: `--require` gates; [`plots`]: SVG plots.
+//!   tables; [`objectives`]: the view-objective comparison; [`gate`]: `--require` gates;
+//!   [`plots`]: SVG plots.
 //! - [`views`]: what `nbv views` lists — each object's next-best-view candidates,
 //!   planned and checked in the twin.
 //! - [`error`]: the error type, [`SweepError`].
@@ -23,6 +24,7 @@ pub mod gate;
 pub mod grid;
 pub mod layout;
 pub mod matching;
+pub mod objectives;
 pub mod pictures;
 pub mod plots;
 pub mod report;

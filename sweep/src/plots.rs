@@ -1,7 +1,8 @@
 //! A sweep's plots (SVG, with plotters; no fonts or GPU needed): a heatmap of the mean
 //! coverage over the first two swept parameters, the coverage of each episode against
-//! its views per object, and — when the sweep spans several error levels — the
-//! registration error of each method against the level (Table III's plot).
+//! its views per object, when the sweep spans several error levels the registration
+//! error of each method against the level (Table III's plot), and when it sweeps
+//! `nbv.objective` the mean coverage after each view, one line per objective.
 
 use crate::error::{Result, invalid};
 use crate::results::EpisodeRow;
@@ -10,8 +11,9 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 /// Writes `heatmap_coverage.svg` (when at least one parameter is swept),
-/// `coverage_vs_views.svg` and `registration_vs_level.svg` (when the registrations span
-/// two error levels or more) into `dir`; returns the files written.
+/// `coverage_vs_views.svg`, `registration_vs_level.svg` (when the registrations span
+/// two error levels or more) and `coverage_by_view_per_objective.svg` (when
+/// `nbv.objective` is swept) into `dir`; returns the files written.
 pub fn write(dir: &Path, rows: &[EpisodeRow]) -> Result<Vec<String>> {
     std::fs::create_dir_all(dir)?;
     let mut written = Vec::new();
@@ -37,7 +39,72 @@ pub fn write(dir: &Path, rows: &[EpisodeRow]) -> Result<Vec<String>> {
         save(&dir.join("registration_vs_level.svg"), &svg)?;
         written.push("registration_vs_level.svg".to_string());
     }
+    let objectives: Vec<_> = crate::objectives::objective_table(rows)
+        .into_iter()
+        .filter(|l| l.scenes == "all")
+        .collect();
+    if !objectives.is_empty() {
+        let svg = coverage_by_view(&objectives)?;
+        save(&dir.join("coverage_by_view_per_objective.svg"), &svg)?;
+        written.push("coverage_by_view_per_objective.svg".to_string());
+    }
     Ok(written)
+}
+
+/// Mean coverage after k views per object, one line per objective.
+fn coverage_by_view(lines: &[crate::objectives::ObjectiveLine]) -> Result<String> {
+    let mut svg = String::new();
+    let k_max = lines
+        .iter()
+        .map(|l| l.coverage_by_view.len())
+        .max()
+        .unwrap_or(1)
+        .saturating_sub(1)
+        .max(1);
+    let root = SVGBackend::with_string(&mut svg, (800, 600)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| invalid!("{e}"))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            "coverage after each view, per objective",
+            ("sans-serif", 20),
+        )
+        .margin(20)
+        .x_label_area_size(50)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0f64..k_max as f64, 0f64..1f64)
+        .map_err(|e| invalid!("{e}"))?;
+    chart
+        .configure_mesh()
+        .x_desc("short-range views per object (0: the laser cluster)")
+        .y_desc("mean object coverage")
+        .draw()
+        .map_err(|e| invalid!("{e}"))?;
+    for (i, l) in lines.iter().enumerate() {
+        let colour = Palette99::pick(i).to_rgba();
+        let points: Vec<(f64, f64)> = l
+            .coverage_by_view
+            .iter()
+            .enumerate()
+            .map(|(k, c)| (k as f64, *c))
+            .collect();
+        let width = if l.objective == "paper" { 4 } else { 2 };
+        chart
+            .draw_series(LineSeries::new(points, colour.stroke_width(width)))
+            .map_err(|e| invalid!("{e}"))?
+            .label(l.objective.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::LowerRight)
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| invalid!("{e}"))?;
+    root.present().map_err(|e| invalid!("{e}"))?;
+    drop(chart);
+    drop(root);
+    Ok(svg)
 }
 
 fn save(path: &Path, svg: &str) -> Result<()> {

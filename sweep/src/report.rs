@@ -36,6 +36,13 @@ pub struct Times {
     total: f64,
 }
 
+impl Times {
+    /// The next-best-view step's time (s): candidates, their IK goals and their scores.
+    pub fn nbv(&self) -> f64 {
+        self.nbv
+    }
+}
+
 impl From<&StepTimes> for Times {
     fn from(t: &StepTimes) -> Self {
         Self {
@@ -79,7 +86,7 @@ pub struct RegistrationScore {
 pub struct ViewEntry {
     /// Sensor position (m) and roll/pitch/yaw (rad) of the viewpoint.
     pub viewpoint: [f64; 6],
-    /// Eq. (4) score when chosen.
+    /// The objective's value G(v) when chosen (eq. (4) by default).
     pub score: f64,
     /// Predicted |O_v| unknown, occupied.
     pub predicted_unknown: usize,
@@ -146,6 +153,13 @@ pub struct ObjectEntry {
     pub coverage_unregistered: Option<f64>,
     /// Coverage of the sequential-ICP model.
     pub coverage_icp: Option<f64>,
+    /// Coverage after 0, 1, …, n short-range views: the model of the phase-1 cluster and
+    /// the first k non-empty views, merged through the final registration's poses (as
+    /// `coverage`, whose value the last entry is); empty for an unmatched cluster.
+    pub coverage_by_view: Vec<f64>,
+    /// Joint-space length (rad) of the planned paths to the views taken (after
+    /// shortcutting; retreats not counted).
+    pub joint_distance: f64,
     /// Mean point error of the views as acquired (no registration).
     pub error_unregistered: Option<RegistrationScore>,
     /// The method the model uses: the MAP registration (noise-weighted, with the rig's
@@ -291,6 +305,8 @@ pub struct Totals {
     pub mean_f_score_unregistered: f64,
     /// Mean coverage over the matched objects.
     pub mean_coverage: f64,
+    /// Joint-space length (rad) of the planned paths to all views taken.
+    pub joint_distance: f64,
     /// Mean alignment error of the model's registration over objects (m).
     pub mean_error_gpa: Option<f64>,
     /// Mean sequential ICP error (m).
@@ -393,6 +409,13 @@ pub fn evaluate(
             })
         };
         let unregistered = object.unregistered_model();
+        let coverage_by_view = match truth {
+            Some(_) => coverage_after_each_view(object)
+                .iter()
+                .filter_map(&coverage_of)
+                .collect(),
+            None => Vec::new(),
+        };
         objects.push(ObjectEntry {
             name,
             cluster: object.index,
@@ -411,6 +434,12 @@ pub fn evaluate(
             coverage_mid_range: coverage_of(&object.cluster),
             coverage_unregistered: coverage_of(&unregistered),
             coverage_icp: object.icp_model().and_then(|m| coverage_of(&m)),
+            coverage_by_view,
+            joint_distance: object
+                .views
+                .iter()
+                .map(|v| v.plan.length_after_shortcut)
+                .sum(),
             error_unregistered,
             error_gpa,
             error_pgpa,
@@ -443,6 +472,7 @@ pub fn evaluate(
         mean_f_score: f_scores(|o| o.quality),
         mean_f_score_unregistered: f_scores(|o| o.quality_unregistered),
         mean_coverage: mean(coverages).unwrap_or(0.0),
+        joint_distance: objects.iter().map(|o| o.joint_distance).sum(),
         mean_error_gpa: mean(
             objects
                 .iter()
@@ -539,6 +569,45 @@ pub fn evaluate(
     })
 }
 
+/// The object's model after 0, 1, …, n short-range views (see
+/// [`ObjectEntry::coverage_by_view`]): its registered views up to the k-th taken view,
+/// through the MAP poses when accepted (as [`ObjectExploration::model`]).
+///
+/// [`ObjectExploration::model`]: nbv_core::pipeline::ObjectExploration::model
+fn coverage_after_each_view(
+    object: &nbv_core::pipeline::ObjectExploration,
+) -> Vec<nbv_core::cloud::PointCloud> {
+    let Some(r) = &object.registration else {
+        return vec![object.model(); object.views.len() + 1];
+    };
+    let pose = |k: usize| {
+        if r.map_accepted {
+            r.map.poses.get(k).copied().unwrap_or_else(Pose::identity)
+        } else {
+            Pose::identity()
+        }
+    };
+    let mut model = nbv_core::cloud::PointCloud::default();
+    let add = |k: usize, model: &mut nbv_core::cloud::PointCloud| {
+        if let Some(v) = r.views.get(k) {
+            let mut v = v.clone();
+            v.transform(&pose(k));
+            model.extend(&v);
+        }
+    };
+    add(0, &mut model);
+    let mut out = vec![model.clone()];
+    let mut registered = 0;
+    for v in &object.views {
+        if !v.cloud.is_empty() {
+            registered += 1;
+            add(registered, &mut model);
+        }
+        out.push(model.clone());
+    }
+    out
+}
+
 fn view_entry(v: &nbv_core::pipeline::AcquiredView) -> ViewEntry {
     let ([x, y, z], [r, p, w]) = nbv_core::math::pose_to_xyz_rpy(&v.viewpoint);
     ViewEntry {
@@ -560,6 +629,9 @@ fn stop_text(stop: &ObjectStop) -> String {
             format!("gain {gain:.3} below threshold {threshold}")
         }
         ObjectStop::Rule(nbv_core::nbv::StopReason::NoViewpoint) => "no viewpoint left".into(),
+        ObjectStop::Rule(nbv_core::nbv::StopReason::RelativeGain { gain, first, ratio }) => {
+            format!("best candidate's gain {gain:.3} below {ratio} of the first round's {first:.3}")
+        }
         ObjectStop::MaxViews => "view cap reached".into(),
         ObjectStop::NotExplored => "not explored (mid-only)".into(),
         ObjectStop::NotAnObject { points } => format!(

@@ -87,6 +87,16 @@ pub struct EpisodeRow {
     pub failed_icp: usize,
     /// Per object: (name, GPA alignment, ICP alignment, GPA failed, ICP failed).
     pub registrations: Vec<ObjectRegistrationRow>,
+    /// Mean coverage of the matched objects after 0, 1, … short-range views (an object
+    /// that stopped keeps its last value); empty in older rows.
+    #[serde(default)]
+    pub coverage_by_view: Vec<f64>,
+    /// Joint-space length (rad) of the planned paths to the views (0 in older rows).
+    #[serde(default)]
+    pub joint_distance: f64,
+    /// Next-best-view scoring time per view (s; 0 in older rows).
+    #[serde(default)]
+    pub nbv_time_per_view: f64,
     /// Wall time of the episode (s); the only column that differs between identical runs.
     pub time_s: f64,
 }
@@ -236,6 +246,18 @@ impl EpisodeRow {
             failed_gpa: registrations.iter().filter(|r| r.gpa_failed).count(),
             failed_icp: registrations.iter().filter(|r| r.icp_failed).count(),
             registrations,
+            coverage_by_view: mean_curve(
+                objects
+                    .iter()
+                    .filter(|o| !o.coverage_by_view.is_empty())
+                    .map(|o| o.coverage_by_view.as_slice()),
+            ),
+            joint_distance: report.totals.joint_distance,
+            nbv_time_per_view: if views > 0 {
+                report.totals.times.nbv() / views as f64
+            } else {
+                0.0
+            },
             time_s,
         }
     }
@@ -249,8 +271,26 @@ impl EpisodeRow {
     }
 }
 
+/// The pointwise mean of curves of different lengths, each carried forward at its last
+/// value (empty without a curve).
+///
+/// ```
+/// let m = nbv_sweep::results::mean_curve([&[0.2, 0.6][..], &[0.4, 0.5, 0.9][..]]);
+/// assert_eq!(m, vec![0.30000000000000004, 0.55, 0.75]);
+/// ```
+pub fn mean_curve<'a>(curves: impl IntoIterator<Item = &'a [f64]>) -> Vec<f64> {
+    let curves: Vec<&[f64]> = curves.into_iter().filter(|c| !c.is_empty()).collect();
+    let len = curves.iter().map(|c| c.len()).max().unwrap_or(0);
+    (0..len)
+        .map(|k| {
+            let at = |c: &&[f64]| c.get(k).or(c.last()).copied().unwrap_or(0.0);
+            curves.iter().map(at).sum::<f64>() / curves.len() as f64
+        })
+        .collect()
+}
+
 /// The CSV columns after the parameters (`time_s` last).
-const METRICS: [&str; 24] = [
+const METRICS: [&str; 26] = [
     "objects",
     "missed",
     "split",
@@ -274,6 +314,8 @@ const METRICS: [&str; 24] = [
     "error_unregistered",
     "failed_gpa",
     "failed_icp",
+    "joint_distance",
+    "nbv_time_per_view",
     "time_s",
 ];
 
@@ -321,6 +363,8 @@ pub fn csv_text(rows: &[EpisodeRow]) -> Result<String> {
             format!("{:.6}", r.error_unregistered),
             r.failed_gpa.to_string(),
             r.failed_icp.to_string(),
+            format!("{:.6}", r.joint_distance),
+            format!("{:.6}", r.nbv_time_per_view),
             format!("{:.3}", r.time_s),
         ]);
         w.write_record(&rec)?;
@@ -696,6 +740,9 @@ pub(crate) mod tests {
                 f_score: coverage - 0.1,
                 f_score_acquired: coverage - 0.2,
             }],
+            coverage_by_view: vec![0.4, (0.4 + coverage) / 2.0, coverage],
+            joint_distance: 3.0,
+            nbv_time_per_view: 0.02,
             time_s: 10.0,
         }
     }

@@ -8,10 +8,9 @@ use crate::error::{Context, Result};
 use crate::matching::true_object_of;
 use nbv_core::math::pose_to_xyz_rpy;
 use nbv_core::nbv::{NextBestView, VisitedViews};
-use nbv_core::occupancy::ReducedMap;
 use nbv_core::pipeline::{
-    ExploreMode, NoObserver, ObjectRegion, ViewCandidates, plan_clearing_start, view_candidates,
-    viewing_centre,
+    ExplorationMap, ExploreMode, NoObserver, ObjectRegion, ViewCandidates, plan_clearing_start,
+    view_candidates, viewing_centre,
 };
 use nbv_core::rig::{Arm, DepthCamera, RigError};
 use nbv_sim::rig::SimRig;
@@ -74,7 +73,9 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
     let mut rig = SimRig::from_scene(scene).context("building the twin")?;
     let (phase, segmentation) = rig.phase_one(&config, &mut NoObserver)?;
     let (robot, _) = rig.robot_and_base();
-    let reduced = ReducedMap::from_grid(&phase.grid);
+    let map =
+        ExplorationMap::after_phase_one(phase.grid.clone(), &phase.cloud, config.nbv.objective)
+            .context("the map after phase 1")?;
     let nbv = NextBestView::new(config.nbv, rig.camera.spec())?;
     let start = rig.arm.joints()?;
     let mut out = Vec::new();
@@ -94,7 +95,8 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
             &robot,
             &config,
             &nbv,
-            &reduced,
+            &map,
+            Some(&start),
             &centre,
             &VisitedViews::default(),
         )?;

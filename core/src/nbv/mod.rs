@@ -15,6 +15,9 @@
 //!    [r_min, r_max] — by DDA; [`visible_voxels_literal`] is the paper's literal
 //!    every-ray-against-every-voxel loop and gives the same sets;
 //! 5. [`ScoreWeights`]: eq. (4), candidates sorted best first ([`NextBestView::candidates`]);
+//!    or, by [`NbvParams::objective`], one of the seven information gains of the
+//!    literature over the full grid ([`Objective`], [`view_gain`]; `objectives/`), with an
+//!    optional movement cost ([`apply_movement_cost`]);
 //! 6. after the view was acquired and the grid updated: [`InformationGain`] (eq. (5) as
 //!    printed; its sign is discussed there — it is negative for views that hit surface)
 //!    and the [`StopRule`] (on eq. (5) by default, or on the Bernoulli KL divergence).
@@ -30,6 +33,7 @@
 
 mod information_gain;
 mod nbv_error;
+mod objectives;
 mod sensor_rays;
 mod stop_rule;
 mod view_pose;
@@ -41,6 +45,12 @@ mod visited_views;
 
 pub use information_gain::InformationGain;
 pub use nbv_error::NbvError;
+pub use objectives::{
+    AreaRay, GainMap, Objective, RayVoxel, Visibility, VoxelClass, apply_movement_cost,
+    area_factor_ray, area_factor_view, average_entropy_ray, average_entropy_view, cast_ray,
+    entropy, joint_distance, occlusion_aware_ray, proximity_count_ray, rear_side_entropy_ray,
+    rear_side_voxel_ray, unobserved_voxel_ray, view_gain,
+};
 pub use sensor_rays::SensorRays;
 pub use stop_rule::{GainMeasure, StopReason, StopRule};
 pub use view_pose::{view_pose, view_pose_rolled, view_position, view_rotation};

@@ -1,5 +1,8 @@
 //! [`StopRule`]: when the short-range exploration of an object ends (Algorithm 1, line 10):
-//! the information gain of the latest view fell below `gain_thr`, or no viewpoint is left.
+//! the information gain of the latest view fell below `gain_thr`, or no viewpoint is left;
+//! optionally, the best candidate's objective value fell below a share of what the best
+//! candidate of the object's first round promised (the relative-gain rule). The view cap,
+//! the reference implementation's only rule, is the pipeline's `max_views_per_object`.
 
 use super::{InformationGain, NbvError};
 
@@ -15,6 +18,16 @@ pub enum StopReason {
     },
     /// No candidate viewpoint is left (all unreachable, visited, or failed to plan).
     NoViewpoint,
+    /// The best candidate's objective value is below `ratio` × the best value of the
+    /// object's first round.
+    RelativeGain {
+        /// The best candidate's value now.
+        gain: f64,
+        /// The best value of the first round.
+        first: f64,
+        /// The ratio.
+        ratio: f64,
+    },
 }
 
 /// Which number of an [`InformationGain`] the stop rule compares with `gain_thr`.
@@ -67,6 +80,9 @@ pub struct StopRule {
     pub gain_threshold: f64,
     /// What is compared.
     pub measure: GainMeasure,
+    /// The relative-gain rule's ratio in [0, 1): stop when the best candidate's objective
+    /// value is below it times the first round's best (0, the default: off).
+    pub relative_gain: f64,
 }
 
 impl Default for StopRule {
@@ -74,22 +90,50 @@ impl Default for StopRule {
         Self {
             gain_threshold: 0.5,
             measure: GainMeasure::Eq5,
+            relative_gain: 0.0,
         }
     }
 }
 
 impl StopRule {
-    /// Checks that the threshold is finite.
+    /// Checks that the threshold is finite and the ratio in [0, 1).
     pub fn validate(&self) -> Result<(), NbvError> {
-        if self.gain_threshold.is_finite() {
-            Ok(())
-        } else {
-            Err(NbvError::InvalidParameter {
+        if !self.gain_threshold.is_finite() {
+            return Err(NbvError::InvalidParameter {
                 name: "gain_thr",
                 value: self.gain_threshold,
                 reason: "must be finite",
-            })
+            });
         }
+        if !(self.relative_gain >= 0.0 && self.relative_gain < 1.0) {
+            return Err(NbvError::InvalidParameter {
+                name: "relative_gain",
+                value: self.relative_gain,
+                reason: "must be in [0, 1)",
+            });
+        }
+        Ok(())
+    }
+
+    /// The relative-gain rule: `best` is the best candidate's objective value now, `first`
+    /// the best of the object's first round. Off (never stops) at ratio 0 or with a first
+    /// value ≤ 0.
+    ///
+    /// ```
+    /// use nbv_core::nbv::{StopReason, StopRule};
+    /// let rule = StopRule { relative_gain: 0.1, ..StopRule::default() };
+    /// assert_eq!(rule.check_relative(200.0, 25.0), None);
+    /// assert!(matches!(rule.check_relative(200.0, 19.0), Some(StopReason::RelativeGain { .. })));
+    /// assert_eq!(StopRule::default().check_relative(200.0, 0.0), None);
+    /// ```
+    pub fn check_relative(&self, first: f64, best: f64) -> Option<StopReason> {
+        (self.relative_gain > 0.0 && first > 0.0 && best < self.relative_gain * first).then_some(
+            StopReason::RelativeGain {
+                gain: best,
+                first,
+                ratio: self.relative_gain,
+            },
+        )
     }
 
     /// Whether to stop, given the latest view's gain (`None` before the first short-range
@@ -151,6 +195,7 @@ mod tests {
         let kl = StopRule {
             gain_threshold: 1.0,
             measure: GainMeasure::BernoulliKl,
+            relative_gain: 0.0,
         };
         let g = InformationGain {
             total: -5.0,
@@ -159,5 +204,10 @@ mod tests {
         };
         assert_eq!(kl.check(Some(&g), 5), None);
         assert!(rule.check(Some(&g), 5).is_some());
+        let bad = StopRule {
+            relative_gain: 1.0,
+            ..StopRule::default()
+        };
+        assert!(bad.validate().is_err());
     }
 }

@@ -8,8 +8,9 @@ use nalgebra::Point3;
 use rayon::prelude::*;
 
 use super::{
-    NbvError, ScoreWeights, SensorRays, SphereSample, ViewSphere, VisibleVoxels, VisitedViews,
-    view_pose, view_pose_rolled, visible_voxels, visible_voxels_literal,
+    GainMap, NbvError, Objective, ScoreWeights, SensorRays, SphereSample, ViewSphere,
+    VisibleVoxels, VisitedViews, view_gain, view_pose, view_pose_rolled, visible_voxels,
+    visible_voxels_literal,
 };
 use crate::cloud::PointCloud;
 use crate::kinematics::{IkError, IkSolution, Robot};
@@ -46,6 +47,11 @@ pub struct NbvParams {
     pub roll_candidates: usize,
     /// How O_v is computed.
     pub visibility: VisibilityForm,
+    /// What ranks the candidates: eq. (4) (default) or an information gain over the grid.
+    pub objective: Objective,
+    /// λ of Isler's utility `G/ΣG − λ·c/Σc` ([`apply_movement_cost`](super::apply_movement_cost));
+    /// 0 (default) ranks by G alone.
+    pub cost_weight: f64,
 }
 
 impl Default for NbvParams {
@@ -56,6 +62,8 @@ impl Default for NbvParams {
             ray_stride: 8,
             roll_candidates: 1,
             visibility: VisibilityForm::Dda,
+            objective: Objective::Paper,
+            cost_weight: 0.0,
         }
     }
 }
@@ -81,8 +89,11 @@ pub struct Candidate {
     pub viewpoint: Viewpoint,
     /// O_v.
     pub visible: VisibleVoxels,
-    /// Eq. (4).
+    /// The objective's value G(v): eq. (4) by default.
     pub score: f64,
+    /// What the candidates are sorted by: `score`, or Isler's utility with a movement
+    /// cost ([`apply_movement_cost`](super::apply_movement_cost)).
+    pub utility: f64,
 }
 
 /// The reachable, unvisited viewpoints of one sphere (Algorithm 2, lines 1–10) and how many
@@ -166,6 +177,13 @@ impl NextBestView {
     pub fn new(params: NbvParams, camera: &DepthCameraSpec) -> Result<Self, NbvError> {
         params.sphere.validate()?;
         params.weights.validate()?;
+        if !(params.cost_weight.is_finite() && params.cost_weight >= 0.0) {
+            return Err(NbvError::InvalidParameter {
+                name: "cost_weight",
+                value: params.cost_weight,
+                reason: "must be finite and >= 0",
+            });
+        }
         if params.roll_candidates == 0 {
             return Err(NbvError::InvalidParameter {
                 name: "roll_candidates",
@@ -275,15 +293,35 @@ impl NextBestView {
 
     /// Lines 11–24 for one viewpoint: O_v and eq. (4).
     pub fn evaluate(&self, map: &ReducedMap, viewpoint: Viewpoint) -> Result<Candidate, NbvError> {
+        self.evaluate_with(map, None, viewpoint)
+    }
+
+    /// O_v and the objective's value: eq. (4) on `map`, or an information gain on `gains`
+    /// (an error if the objective needs it and it is `None`).
+    pub fn evaluate_with(
+        &self,
+        map: &ReducedMap,
+        gains: Option<&GainMap<'_>>,
+        viewpoint: Viewpoint,
+    ) -> Result<Candidate, NbvError> {
         let visible = match self.params.visibility {
             VisibilityForm::Dda => visible_voxels(map, &viewpoint.pose, &self.rays)?,
             VisibilityForm::Literal => visible_voxels_literal(map, &viewpoint.pose, &self.rays)?,
         };
-        let score = self.params.weights.score(&visible);
+        let score = match (self.params.objective, gains) {
+            (Objective::Paper, _) => self.params.weights.score(&visible),
+            (o, Some(g)) => view_gain(o, g, &viewpoint.pose, &self.rays)?,
+            (_, None) => {
+                return Err(NbvError::InvalidInput(
+                    "an information-gain objective needs the occupancy grid",
+                ));
+            }
+        };
         Ok(Candidate {
             viewpoint,
             visible,
             score,
+            utility: score,
         })
     }
 
@@ -309,11 +347,25 @@ impl NextBestView {
         visited: &VisitedViews,
         usable: &GoalFilter<'_>,
     ) -> Result<ViewpointList, NbvError> {
+        self.candidates_scored(robot, map, None, centroid, visited, usable)
+    }
+
+    /// [`candidates_around_where`](Self::candidates_around_where) scored by the
+    /// parameters' objective, the information gains on `gains`.
+    pub fn candidates_scored(
+        &self,
+        robot: &Robot,
+        map: &ReducedMap,
+        gains: Option<&GainMap<'_>>,
+        centroid: &Point3<f64>,
+        visited: &VisitedViews,
+        usable: &GoalFilter<'_>,
+    ) -> Result<ViewpointList, NbvError> {
         let set = self.viewpoints_where(robot, centroid, visited, usable)?;
         let mut candidates = set
             .viewpoints
             .into_par_iter()
-            .map(|v| self.evaluate(map, v))
+            .map(|v| self.evaluate_with(map, gains, v))
             .collect::<Result<Vec<_>, NbvError>>()?;
         sort_best_first(&mut candidates);
         Ok(ViewpointList {
@@ -351,10 +403,11 @@ enum SampleOutcome {
     Unreachable,
 }
 
-/// Sorts by decreasing score, ties by increasing (i_θ, i_φ).
+/// Sorts by decreasing utility (the score unless a movement cost was applied), ties by
+/// increasing (i_θ, i_φ).
 pub fn sort_best_first(candidates: &mut [Candidate]) {
     candidates.sort_by(|a, b| {
-        b.score.total_cmp(&a.score).then_with(|| {
+        b.utility.total_cmp(&a.utility).then_with(|| {
             let key = |c: &Candidate| (c.viewpoint.sample.i_theta, c.viewpoint.sample.i_phi);
             key(a).cmp(&key(b))
         })
@@ -384,6 +437,7 @@ mod tests {
                 solutions: Vec::new(),
             },
             score: ScoreWeights::default().score(&visible),
+            utility: ScoreWeights::default().score(&visible),
             visible,
         }
     }
@@ -441,6 +495,10 @@ mod tests {
                 ..d
             },
             NbvParams { ray_stride: 0, ..d },
+            NbvParams {
+                cost_weight: -0.5,
+                ..d
+            },
             NbvParams {
                 weights: ScoreWeights {
                     unknown: -1.0,

@@ -125,7 +125,7 @@ fn classify(hit: Option<RayHit>, range: [f64; 2]) -> RayOutcome {
     }
 }
 
-fn check_pose(pose: &Pose) -> Result<(), NbvError> {
+pub(crate) fn check_pose(pose: &Pose) -> Result<(), NbvError> {
     let finite = pose.translation.vector.iter().all(|v| v.is_finite())
         && pose.rotation.coords.iter().all(|v| v.is_finite());
     if finite {

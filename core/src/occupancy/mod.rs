@@ -8,6 +8,8 @@
 //! - [`OccupancyGrid`]: dense f32 log-odds, per-scan ray updates (parallel, deterministic,
 //!   touching only the voxels a scan reaches: see [`OccupancyGrid::insert_rays`]);
 //! - [`ReducedMap`]: occupied voxels plus the unknown crust, with statistics;
+//! - [`OcclusionDistances`]: how far behind measured surface each unmeasured voxel lies
+//!   (the proximity-count and area-factor objectives' map data);
 //! - the binary grid file format (see [`OccupancyGrid::write_to`]).
 //!
 //! Conventions: a point belongs to voxel `floor((p − min)/resolution)` (a point on a face
@@ -39,6 +41,7 @@
 mod grid_file;
 mod grid_geometry;
 mod log_odds;
+mod occlusion_distances;
 mod occupancy_error;
 mod occupancy_grid;
 mod reduced_map;
@@ -48,6 +51,7 @@ mod voxel_traversal;
 pub use grid_file::{GRID_FILE_MAGIC, GRID_FILE_VERSION, GridFileError};
 pub use grid_geometry::{GridGeometry, MAX_VOXELS, VoxelIndex};
 pub use log_odds::{OccupancyParams, VoxelState, log_odds, probability};
+pub use occlusion_distances::{OCCLUSION_UPDATE_DISTANCE, OcclusionDistances};
 pub use occupancy_error::OccupancyError;
 pub use occupancy_grid::{OccupancyGrid, ScanUpdate, ScanVoxels, StateCounts};
 pub use reduced_map::{ReducedMap, ReducedMapStats};

@@ -4,12 +4,11 @@
 //! region, the table and the known obstacles taken out.
 
 use super::step_timer::timed;
-use super::{ExploreConfig, ObjectRegion, PipelineError, StepTimes};
+use super::{ExplorationMap, ExploreConfig, ObjectRegion, PipelineError, StepTimes};
 use crate::cloud::{PlaneFit, PointCloud};
 use crate::kinematics::Joints;
 use crate::math::Pose;
 use crate::nbv::InformationGain;
-use crate::occupancy::OccupancyGrid;
 use crate::rig::{
     DepthCamera, DepthFrame, Rig, RigError, average_frames, depth_frame_to_cloud, sensor_pose,
 };
@@ -29,13 +28,13 @@ pub(super) struct Observation {
     pub gain: InformationGain,
 }
 
-/// Acquires at the arm's pose and updates `grid`; `predicted` are the voxels the view was
+/// Acquires at the arm's pose and updates `map`; `predicted` are the voxels the view was
 /// chosen for (the gain's domain), `region` and `table` what the object's points are cut
 /// to.
 pub(super) fn acquire_and_update(
     rig: &mut Rig<'_>,
     config: &ExploreConfig,
-    grid: &mut OccupancyGrid,
+    map: &mut ExplorationMap,
     predicted: &[usize],
     region: &ObjectRegion,
     table: Option<&PlaneFit>,
@@ -49,9 +48,9 @@ pub(super) fn acquire_and_update(
         Ok((cloud, joints, pose))
     })?;
     let gain = timed(&mut times.mapping, || -> Result<_, PipelineError> {
-        let before = grid.clone();
-        grid.insert_cloud(&frame, rig.camera.spec().range[1])?;
-        Ok(InformationGain::between(&before, grid, predicted)?)
+        let before = map.grid.clone();
+        map.insert(&frame, rig.camera.spec().range[1])?;
+        Ok(InformationGain::between(&before, &map.grid, predicted)?)
     })?;
     let mut cloud = region.crop(&frame);
     if let (Some(filter), Some(plane)) = (&config.table_filter, table) {

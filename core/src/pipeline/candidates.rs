@@ -3,11 +3,10 @@
 //! goals are free of collision — what the object loop tries in order, and what `nbv views`
 //! lists.
 
-use super::{AcquiredView, ExploreConfig, ObjectRegion, PipelineError};
+use super::{AcquiredView, ExplorationMap, ExploreConfig, ObjectRegion, PipelineError};
 use crate::cloud::PointCloud;
-use crate::kinematics::{IkSolution, Robot};
-use crate::nbv::{NextBestView, ViewpointList, VisitedViews};
-use crate::occupancy::ReducedMap;
+use crate::kinematics::{IkSolution, Joints, Robot};
+use crate::nbv::{NextBestView, ViewpointList, VisitedViews, apply_movement_cost};
 use crate::planning::{CollisionWorld, MotionPlanner};
 use nalgebra::Point3;
 
@@ -19,23 +18,32 @@ pub struct ViewCandidates {
     pub list: ViewpointList,
 }
 
-/// Algorithm 2 around `centre` on the reduced map `reduced`: the viewpoints not yet
-/// `visited`, scored by eq. (4), each with the inverse-kinematics solutions that are free
-/// of self-collision, the known obstacles and the map (MoveIt's collision-aware IK: a
-/// viewpoint none of whose solutions is free is unreachable, and the next roll about the
-/// optical axis is tried).
+/// Algorithm 2 around `centre` on `map`: the viewpoints not yet `visited`, scored by the
+/// objective (eq. (4) on the reduced map by default; an information gain on the grid),
+/// each with the inverse-kinematics solutions that are free of self-collision,
+/// the known obstacles and the map (MoveIt's collision-aware IK: a viewpoint none of whose
+/// solutions is free is unreachable, and the next roll about the optical axis is tried).
+/// With a movement-cost weight and the arm's joints `start`, ranked by Isler's utility.
 pub fn view_candidates(
     robot: &Robot,
     config: &ExploreConfig,
     nbv: &NextBestView,
-    reduced: &ReducedMap,
+    map: &ExplorationMap,
+    start: Option<&Joints>,
     centre: &Point3<f64>,
     visited: &VisitedViews,
 ) -> Result<ViewCandidates, PipelineError> {
+    let reduced = &map.reduced;
     let world = CollisionWorld::new(robot, &config.obstacles)?.with_reduced_map(reduced);
     let planner = MotionPlanner::new(world, config.planner)?;
     let usable = |s: &IkSolution| !planner.world().in_collision(&s.joints);
-    let list = nbv.candidates_around_where(robot, reduced, centre, visited, &usable)?;
+    let mut list =
+        nbv.candidates_scored(robot, reduced, Some(&map.gains()), centre, visited, &usable)?;
+    if let Some(start) = start
+        && nbv.params.cost_weight > 0.0
+    {
+        apply_movement_cost(&mut list.candidates, start, nbv.params.cost_weight);
+    }
     Ok(ViewCandidates { planner, list })
 }
 

@@ -1,6 +1,7 @@
 //! [`explore`]: the method end to end over a [`Rig`] (the paper's Figure 2) — phase 1,
 //! then each object explored by Algorithm 1 and its views registered.
 
+use super::ExplorationMap;
 use super::episode::Episode;
 use super::hand_eye::estimate_hand_eye;
 use super::object_loop::explore_object;
@@ -36,7 +37,11 @@ pub fn explore(
     }
     let mut ep = Episode::new(rig, config, observer);
     let (phase_report, segmentation) = super::phase_one::run(&mut ep)?;
-    let mut grid = phase_report.grid.clone();
+    let mut map = ExplorationMap::after_phase_one(
+        phase_report.grid.clone(),
+        &phase_report.cloud,
+        config.nbv.objective,
+    )?;
     let mut objects = Vec::new();
     let nbv = NextBestView::new(config.nbv, ep.rig.camera.spec())?;
     for (j, cluster) in segmentation.clusters.iter().enumerate() {
@@ -58,7 +63,7 @@ pub fn explore(
         };
         if config.mode != ExploreMode::MidOnly {
             let table = segmentation.table.as_ref();
-            explore_object(&mut ep, &nbv, &mut grid, &region, table, &mut object)?;
+            explore_object(&mut ep, &nbv, &mut map, &region, table, &mut object)?;
         }
         let stop = match object.stop {
             ObjectStop::Rule(r) => Some(r),
@@ -92,7 +97,7 @@ pub fn explore(
         mode: config.mode,
         phase_one: phase_report,
         objects,
-        grid,
+        grid: map.grid,
         collisions: ep.collisions,
         hand_eye,
     })

@@ -16,6 +16,7 @@ mod acquire_and_update;
 mod candidates;
 mod episode;
 mod exploration;
+mod exploration_map;
 mod explore_config;
 mod explore_event;
 mod hand_eye;
@@ -32,6 +33,7 @@ mod table_filter;
 
 pub use candidates::{ViewCandidates, view_candidates, viewing_centre};
 pub use exploration::explore;
+pub use exploration_map::ExplorationMap;
 pub use explore_config::{ExploreConfig, ExploreMode, SURVEY_HEIGHT, SURVEY_SPACING};
 pub use explore_event::{ExploreEvent, ExploreObserver, NoObserver};
 pub use hand_eye::{HandEyeEstimate, estimate_hand_eye};

@@ -9,21 +9,20 @@ use super::episode::Episode;
 use super::plan_and_execute::{plan_clearing_start, retrace};
 use super::step_timer::timed;
 use super::{
-    AcquiredView, ExploreEvent, ExploreObserver, ObjectExploration, ObjectRegion, ObjectStop,
-    PipelineError, ViewFailure,
+    AcquiredView, ExplorationMap, ExploreEvent, ExploreObserver, ObjectExploration, ObjectRegion,
+    ObjectStop, PipelineError, ViewFailure,
 };
 use crate::cloud::PlaneFit;
 use crate::math::Pose;
 use crate::nbv::{InformationGain, NextBestView, StopReason, VisitedViews};
-use crate::occupancy::{OccupancyGrid, ReducedMap};
 use crate::rig::RigError;
 
 /// Explores `object` (its cluster in `region`, standing on `table`) until a stop; the
-/// views go into `object`, the collisions into the episode.
+/// views go into `object`, the collisions into the episode, each view into `map`.
 pub(super) fn explore_object(
     ep: &mut Episode<'_, '_>,
     nbv: &NextBestView,
-    grid: &mut OccupancyGrid,
+    map: &mut ExplorationMap,
     region: &ObjectRegion,
     table: Option<&PlaneFit>,
     object: &mut ObjectExploration,
@@ -35,19 +34,33 @@ pub(super) fn explore_object(
     let mut failures_since_view = 0;
     let mut attempt: u64 = 0;
     let mut retreated = false;
+    let mut first_best: Option<f64> = None;
     loop {
         if object.views.len() >= config.max_views_per_object {
             object.stop = ObjectStop::MaxViews;
             return Ok(());
         }
-        let reduced = timed(&mut object.times.mapping, || ReducedMap::from_grid(grid));
         let ViewCandidates {
             mut planner,
             mut list,
         } = timed(&mut object.times.nbv, || -> Result<_, PipelineError> {
             let centre = viewing_centre(&object.cluster, &object.views, region)
                 .ok_or_else(|| PipelineError::Config(format!("object {j} has no point")))?;
-            view_candidates(&ep.rig.robot, config, nbv, &reduced, &centre, &visited)
+            // The arm's joints only when the movement cost reads them (a device round trip).
+            let start = if nbv.params.cost_weight > 0.0 {
+                Some(ep.rig.arm.joints()?)
+            } else {
+                None
+            };
+            view_candidates(
+                &ep.rig.robot,
+                config,
+                nbv,
+                map,
+                start.as_ref(),
+                &centre,
+                &visited,
+            )
         })?;
         object.candidates_evaluated += list.candidates.len();
         ep.observer.event(&ExploreEvent::Candidates {
@@ -60,6 +73,20 @@ pub(super) fn explore_object(
         {
             object.stop = ObjectStop::Rule(reason);
             return Ok(());
+        }
+        let best = list
+            .candidates
+            .iter()
+            .map(|c| c.score)
+            .fold(f64::NEG_INFINITY, f64::max);
+        match first_best {
+            None => first_best = Some(best),
+            Some(first) => {
+                if let Some(reason) = config.stop.check_relative(first, best) {
+                    object.stop = ObjectStop::Rule(reason);
+                    return Ok(());
+                }
+            }
         }
         let mut taken = false;
         while let Some(candidate) = list.pop_first() {
@@ -113,7 +140,7 @@ pub(super) fn explore_object(
             let seen = acquire_and_update(
                 ep.rig,
                 config,
-                grid,
+                map,
                 &candidate.visible.all(),
                 region,
                 table,

@@ -89,7 +89,7 @@ pub struct PhaseOneReport {
 pub struct AcquiredView {
     /// The planned viewpoint's sensor pose.
     pub viewpoint: Pose,
-    /// Eq. (4) score of the viewpoint when chosen.
+    /// The objective's value G(v) of the viewpoint when chosen (eq. (4) by default).
     pub score: f64,
     /// |O_v| unknown and occupied when chosen.
     pub predicted: (usize, usize),

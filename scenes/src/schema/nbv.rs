@@ -1,11 +1,13 @@
 //! [`Nbv`]: the next-best-view search of Algorithm 2 and its stopping rule.
 
+use nbv_core::nbv::{NbvParams, Objective, StopRule};
 use serde::{Deserialize, Serialize};
 
 /// Viewpoints on a sphere of radius `r` around the object centroid at inclinations
 /// `θ = Δθ·i ≤ θ_max` and azimuths `φ = −π + Δφ·i` (eq. (3)), scored by
-/// `α_u·|O_u| + α_o·|O_o|` (eq. (4)); an object is done when the information gain
-/// (eq. (5)) of the latest view falls below `gain_threshold`.
+/// `α_u·|O_u| + α_o·|O_o|` (eq. (4)) or by another `objective`; an object is done when the
+/// information gain (eq. (5)) of the latest view falls below `gain_threshold`, at the view
+/// cap, or by the relative-gain rule.
 ///
 /// Every key a file leaves out takes the value of its [`preset`](Nbv::preset): `"twin"`
 /// (the default) or `"paper"`.
@@ -17,6 +19,9 @@ use serde::{Deserialize, Serialize};
 /// let paper: Nbv = toml::from_str("preset = \"paper\"\nalpha_u = 2.0").unwrap();
 /// assert_eq!((paper.radius, paper.dphi_deg, paper.alpha_u), (0.3, 30.0, 2.0));
 /// assert!(toml::from_str::<Nbv>("radious = 0.3").is_err());
+/// let rse: Nbv = toml::from_str("objective = \"rear-side-entropy\"").unwrap();
+/// assert_eq!(rse.objective, nbv_core::nbv::Objective::RearSideEntropy);
+/// assert!(toml::from_str::<Nbv>("objective = \"rear-side\"").is_err());
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(from = "NbvKeys")]
@@ -60,6 +65,18 @@ pub struct Nbv {
     /// camera's range noise falls by the square root. Default 8 (a quarter of a second at
     /// 30 Hz); 1 takes a single frame.
     pub frames_per_view: u32,
+    /// What ranks the candidates: `"paper"` (eq. (4), default) or one of the seven
+    /// information gains of Isler et al. 2016 / Delmerico et al. 2018:
+    /// `"occlusion-aware"`, `"unobserved-voxel"`, `"rear-side-voxel"`,
+    /// `"rear-side-entropy"`, `"proximity-count"`, `"area-factor"`, `"average-entropy"`
+    /// ([`Objective`]).
+    pub objective: Objective,
+    /// λ of Isler's utility `G/ΣG − λ·c/Σc`, c the straight joint-space distance to the
+    /// candidate's nearest IK goal (≥ 0). Default 0: ranked by G alone.
+    pub cost_weight: f64,
+    /// The relative-gain stop rule: an object is done when its best candidate's objective
+    /// value is below this share of its first round's best, in [0, 1). Default 0 (off).
+    pub relative_gain: f64,
 }
 
 impl Default for Nbv {
@@ -87,6 +104,9 @@ impl Nbv {
             visited_min_distance: 0.08,
             max_views_per_object: 10,
             frames_per_view: 8,
+            objective: NbvParams::default().objective,
+            cost_weight: NbvParams::default().cost_weight,
+            relative_gain: StopRule::default().relative_gain,
         };
         match preset {
             NbvPreset::Paper => paper,
@@ -135,6 +155,9 @@ struct NbvKeys {
     visited_min_distance: Option<f64>,
     max_views_per_object: Option<u32>,
     frames_per_view: Option<u32>,
+    objective: Option<Objective>,
+    cost_weight: Option<f64>,
+    relative_gain: Option<f64>,
 }
 
 impl From<NbvKeys> for Nbv {
@@ -155,6 +178,9 @@ impl From<NbvKeys> for Nbv {
             visited_min_distance: k.visited_min_distance.unwrap_or(base.visited_min_distance),
             max_views_per_object: k.max_views_per_object.unwrap_or(base.max_views_per_object),
             frames_per_view: k.frames_per_view.unwrap_or(base.frames_per_view),
+            objective: k.objective.unwrap_or(base.objective),
+            cost_weight: k.cost_weight.unwrap_or(base.cost_weight),
+            relative_gain: k.relative_gain.unwrap_or(base.relative_gain),
         }
     }
 }
