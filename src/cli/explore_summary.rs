@@ -135,6 +135,16 @@ pub fn summary(report: &ExploreReport) -> String {
         );
         s += &line;
         s += "\n";
+        if let (Some(r), Some(t)) = (h.view_rotation_error_deg, h.view_translation_error) {
+            s += &format!(
+                "    as the views see it (mount and joints together, against the injected errors): \
+                 off by {:.2}° / {:.1} mm at the median view, {:.2}° / {:.1} mm at the worst\n",
+                r[0],
+                t[0] * 1e3,
+                r[1],
+                t[1] * 1e3
+            );
+        }
     }
     s += &format!(
         "  (F: F-score, the harmonic mean of P, the share of the model's points within \

@@ -288,6 +288,15 @@ pub struct HandEyeEntry {
     pub translation_error: Option<f64>,
     /// The twin's injected joint offsets (rad).
     pub joint_offsets_truth: Option<[f64; 6]>,
+    /// The calibration as the camera views see it: per view, the angle (degrees) between
+    /// the correction the estimate predicts at the view's joints and the one the injected
+    /// errors imply; median and largest over the views. The camera's optical axis is the
+    /// flange axis, so a turn of the mount about it and an offset of joint 6 move every view
+    /// alike: the data fix only their sum, which this figure measures and the hand-eye
+    /// error alone does not.
+    pub view_rotation_error_deg: Option<[f64; 2]>,
+    /// As `view_rotation_error_deg`, for the sensor origin's displacement (m).
+    pub view_translation_error: Option<[f64; 2]>,
 }
 
 /// Totals over the objects.
@@ -563,7 +572,7 @@ pub fn evaluate(
         hand_eye: exploration
             .hand_eye
             .as_ref()
-            .map(|e| hand_eye_entry(scene, e)),
+            .map(|e| hand_eye_entry(scene, e, exploration)),
         totals,
         config: config_json(scene, config),
     })
@@ -659,10 +668,25 @@ fn config_json(scene: &Scene, config: &ExploreConfig) -> serde_json::Value {
 }
 
 /// The hand-eye estimate beside the scene's injected error (the twin's truth).
-fn hand_eye_entry(scene: &Scene, estimate: &nbv_core::pipeline::HandEyeEstimate) -> HandEyeEntry {
+fn hand_eye_entry(
+    scene: &Scene,
+    estimate: &nbv_core::pipeline::HandEyeEstimate,
+    exploration: &Exploration,
+) -> HandEyeEntry {
     let (xyz, rpy) = scene.errors.scaled_hand_eye();
     let truth = nbv_core::math::pose_from_xyz_rpy(xyz, rpy);
     let w = truth.rotation.scaled_axis();
+    let injected = nbv_core::pipeline::HandEyeEstimate {
+        rotation: [w.x, w.y, w.z],
+        translation: xyz,
+        joint_offsets: scene.errors.scaled_joint_offsets(),
+        ..estimate.clone()
+    };
+    let (view_rotation_error_deg, view_translation_error) =
+        match view_errors(scene, estimate, &injected, exploration) {
+            Some((r, t)) => (Some(r.map(f64::to_degrees)), Some(t)),
+            None => (None, None),
+        };
     let est_rotation =
         nalgebra::UnitQuaternion::from_scaled_axis(nalgebra::Vector3::from(estimate.rotation));
     HandEyeEntry {
@@ -673,5 +697,34 @@ fn hand_eye_entry(scene: &Scene, estimate: &nbv_core::pipeline::HandEyeEstimate)
             (nalgebra::Vector3::from(estimate.translation) - truth.translation.vector).norm(),
         ),
         joint_offsets_truth: Some(scene.errors.scaled_joint_offsets()),
+        view_rotation_error_deg,
+        view_translation_error,
     }
+}
+
+/// Median and largest, over the camera views of `exploration`, of the rotation (rad) and
+/// translation (m) between the corrections `estimate` and `injected` predict at each
+/// view (the same linearisation for both); `None` without views or without the robot.
+fn view_errors(
+    scene: &Scene,
+    estimate: &nbv_core::pipeline::HandEyeEstimate,
+    injected: &nbv_core::pipeline::HandEyeEstimate,
+    exploration: &Exploration,
+) -> Option<([f64; 2], [f64; 2])> {
+    let robot = nbv_core::kinematics::Robot::from_urdf_file(&scene.robot.urdf).ok()?;
+    let frame = &scene.sensors.short_range.frame;
+    let (mut rotations, mut translations) = (Vec::new(), Vec::new());
+    let views = exploration.objects.iter().flat_map(|o| &o.views);
+    for v in views.filter(|v| !v.cloud.is_empty()) {
+        let (a, _) = estimate.view_correction(&robot, frame, &v.joints, &v.sensor_pose)?;
+        let (b, _) = injected.view_correction(&robot, frame, &v.joints, &v.sensor_pose)?;
+        let d = a - b;
+        rotations.push(d.fixed_rows::<3>(0).norm());
+        translations.push(d.fixed_rows::<3>(3).norm());
+    }
+    let median_max = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        [v[v.len() / 2], v[v.len() - 1]]
+    };
+    (!rotations.is_empty()).then(|| (median_max(rotations), median_max(translations)))
 }

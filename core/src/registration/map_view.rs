@@ -96,9 +96,7 @@ impl MapView {
                             fit_surfel(near.iter().map(|&j| points[j]), sigmas[i], &rays[i]);
                         // The nearest point is the point itself (or a duplicate of it):
                         // the second nearest gives the gap to a neighbour.
-                        let gap = near
-                            .get(1)
-                            .map_or(0.0, |&j| (points[j] - points[i]).norm());
+                        let gap = near.get(1).map_or(0.0, |&j| (points[j] - points[i]).norm());
                         (surfel, gap)
                     })
                     .collect::<Vec<_>>()
