@@ -38,14 +38,21 @@ fn sweep_command(grid: &Path, out: &Path) -> Command {
     c
 }
 
-/// The CSV's lines without the last column, which must be the episode time.
+/// The CSV's lines without the last two columns, which must be the times.
 fn csv_without_times(dir: &Path) -> Vec<String> {
     let csv = std::fs::read_to_string(dir.join("results.csv")).unwrap();
+    // The last two columns are times (the NBV scoring time per view, the episode's).
     let lines: Vec<String> = csv
         .lines()
-        .map(|l| l.rsplit_once(',').unwrap().0.to_string())
+        .map(|l| l.rsplitn(3, ',').nth(2).unwrap().to_string())
         .collect();
-    assert!(csv.lines().next().unwrap().ends_with(",time_s"), "{csv}");
+    assert!(
+        csv.lines()
+            .next()
+            .unwrap()
+            .ends_with(",nbv_time_per_view,time_s"),
+        "{csv}"
+    );
     lines
 }
 
