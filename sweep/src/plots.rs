@@ -94,17 +94,31 @@ fn coverage_by_view(lines: &[crate::objectives::ObjectiveLine]) -> Result<String
             .label(l.objective.clone())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour));
     }
+    legend_and_present(&mut chart, &root, SeriesLabelPosition::LowerRight)?;
+    drop(chart);
+    drop(root);
+    Ok(svg)
+}
+
+/// Draws the legend of a line chart at `position` and finishes the picture.
+fn legend_and_present<'a, 'b: 'a>(
+    chart: &mut ChartContext<
+        'a,
+        SVGBackend<'b>,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    root: &DrawingArea<SVGBackend<'b>, plotters::coord::Shift>,
+    position: SeriesLabelPosition,
+) -> Result<()> {
     chart
         .configure_series_labels()
-        .position(SeriesLabelPosition::LowerRight)
+        .position(position)
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)
         .draw()
         .map_err(|e| invalid!("{e}"))?;
     root.present().map_err(|e| invalid!("{e}"))?;
-    drop(chart);
-    drop(root);
-    Ok(svg)
+    Ok(())
 }
 
 fn save(path: &Path, svg: &str) -> Result<()> {
@@ -317,14 +331,7 @@ fn registration_vs_level(rows: &[EpisodeRow]) -> Result<String> {
             .draw_series(DashedLineSeries::new(p95, 6, 4, colour.stroke_width(1)))
             .map_err(|e| invalid!("{e}"))?;
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
-        .map_err(|e| invalid!("{e}"))?;
-    root.present().map_err(|e| invalid!("{e}"))?;
+    legend_and_present(&mut chart, &root, SeriesLabelPosition::UpperLeft)?;
     drop(chart);
     drop(root);
     Ok(svg)
