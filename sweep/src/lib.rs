@@ -14,6 +14,7 @@
 //!   tables; [`gate`]: `--require` gates; [`plots`]: SVG plots.
 //! - [`views`]: what `nbv views` lists — each object's next-best-view candidates,
 //!   planned and checked in the twin.
+//! - [`recording`] (feature `rerun`): `episode.rrd`, an episode for the Rerun viewer.
 //! - [`error`]: the error type, [`SweepError`].
 
 pub mod engine;
@@ -25,6 +26,8 @@ pub mod layout;
 pub mod matching;
 pub mod pictures;
 pub mod plots;
+#[cfg(feature = "rerun")]
+pub mod recording;
 pub mod report;
 pub mod results;
 pub mod shard;
