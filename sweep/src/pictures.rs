@@ -12,8 +12,8 @@ use nbv_core::pipeline::Exploration;
 use nbv_scenes::Scene;
 use nbv_sim::render::{
     BACK_AZIMUTH, Camera, CloudColoring, Color, FRONT_AZIMUTH, LineSet, PointSet, RenderScene,
-    Renderer, UnknownVoxels, VIEW_ELEVATION, fitted_front_and_back, front_and_back, map_items,
-    map_items_around, save_png, scene_items,
+    Renderer, UnknownVoxels, fitted_front_and_back, front_and_back, map_items, map_items_around,
+    save_png, scene_items,
 };
 use std::path::Path;
 
@@ -21,6 +21,9 @@ use std::path::Path;
 const CRUST_MARGIN: f64 = 0.06;
 /// How much (m) around those regions the map pictures frame.
 const FRAME_MARGIN: f64 = 0.10;
+/// Elevation (rad) of the map pictures' cameras: from high enough that the crust in
+/// front of an object does not hide its top.
+const MAP_ELEVATION: f64 = 0.95;
 
 const WIDTH: u32 = 1280;
 const HEIGHT: u32 = 960;
@@ -76,8 +79,8 @@ fn draw_all(
         (
             map_items_around(grid, &reduced, &regions),
             (
-                Camera::fit(&framed, FRONT_AZIMUTH, VIEW_ELEVATION, aspect),
-                Camera::fit(&framed, BACK_AZIMUTH, VIEW_ELEVATION, aspect),
+                Camera::fit(&framed, FRONT_AZIMUTH, MAP_ELEVATION, aspect),
+                Camera::fit(&framed, BACK_AZIMUTH, MAP_ELEVATION, aspect),
             ),
         )
     };

@@ -8,20 +8,26 @@ use nbv_sweep::recording::entity;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
-/// Per entity path, the rows logged; and every timeline seen.
-fn read_back(path: &Path) -> (BTreeMap<String, usize>, BTreeSet<String>) {
+/// Per entity path of the recording, the rows logged; and every timeline seen.
+fn read_back(path: &Path) -> (BTreeMap<String, usize>, BTreeSet<String>, bool) {
     let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
     let mut rows = BTreeMap::new();
     let mut timelines = BTreeSet::new();
+    let mut blueprint = false;
     let messages = rerun::external::re_log_encoding::DecoderApp::decode_eager(file).unwrap();
     for msg in messages {
-        if let rerun::log::LogMsg::ArrowMsg(_, arrow) = msg.unwrap() {
+        let msg = msg.unwrap();
+        // The file holds the viewer's layout (a blueprint store) beside the recording.
+        blueprint |= msg.store_id().kind() == rerun::StoreKind::Blueprint;
+        if let rerun::log::LogMsg::ArrowMsg(store, arrow) = msg
+            && store.kind() == rerun::StoreKind::Recording
+        {
             let chunk = rerun::log::Chunk::from_arrow_msg(&arrow).unwrap();
             *rows.entry(chunk.entity_path().to_string()).or_insert(0) += chunk.num_rows();
             timelines.extend(chunk.timelines().keys().map(|t| t.to_string()));
         }
     }
-    (rows, timelines)
+    (rows, timelines, blueprint)
 }
 
 #[test]
@@ -51,7 +57,7 @@ fn an_episode_recording_holds_the_robot_the_sweep_the_grid_each_view_and_the_mod
         .collect();
     assert!(names.iter().all(|n| !n.ends_with(".partial")), "{names:?}");
 
-    let (rows, timelines) = read_back(&file);
+    let (rows, timelines, blueprint) = read_back(&file);
     let paths: Vec<&str> = rows.keys().map(String::as_str).collect();
     let has = |p: &str| rows.contains_key(&format!("/{p}"));
     let under = |prefix: &str| {
@@ -97,5 +103,7 @@ fn an_episode_recording_holds_the_robot_the_sweep_the_grid_each_view_and_the_mod
     assert!(has(&entity::plot("times/planning", 0)));
     assert!(rows[&format!("/{}", entity::LOG)] > views);
     assert!(has("report"));
+    // The viewer's layout is in the file too.
+    assert!(blueprint, "no blueprint store");
     assert!(under("world/scene/") >= 2, "{paths:?}");
 }

@@ -81,6 +81,7 @@ impl EpisodeRecorder {
             .save(&temporary)
             .with_context(|| format!("creating {}", temporary.display()))?;
         rec.set_log_time_enabled(false);
+        super::layout::send(&rec).context("sending the viewer's layout")?;
         rec.log_static(entity::WORLD, &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())
             .context("starting the recording")?;
         log_scene(&rec, scene)?;

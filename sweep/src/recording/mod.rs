@@ -23,6 +23,7 @@
 
 pub mod entity;
 mod episode_recorder;
+mod layout;
 mod palette;
 mod robot_links;
 
