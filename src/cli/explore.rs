@@ -25,6 +25,9 @@ Writes into OUT:
   objects/<name>/views/*.ply   each view as acquired (view_00 is the phase-1 cluster)
   *.png                        scene, map front/back, view sequences, models before/after
                                registration (skipped with a warning when no GPU adapter exists)
+  episode.rrd                  with --record: the episode for the Rerun viewer (robot, sweep,
+                               grid, each view's candidates, path, camera and cloud, models,
+                               gains, coverage, step times, decisions)
 Same scene and seed give the same report apart from the times.")]
 pub struct ExploreArgs {
     /// Scene file, or the name of a built-in scene (paper-env1, paper-env2).
@@ -47,6 +50,10 @@ pub struct ExploreArgs {
     /// Skip the pictures.
     #[arg(long)]
     pub no_pictures: bool,
+    /// Record the episode for the Rerun viewer: OUT/episode.rrd (a build with `--features
+    /// rerun`; open it with `rerun OUT/episode.rrd`).
+    #[arg(long)]
+    pub record: bool,
     /// No progress bars.
     #[arg(long, short)]
     pub quiet: bool,
@@ -100,18 +107,23 @@ pub fn run(args: ExploreArgs) -> Result<()> {
     let scene = nbv_scenes::overrides::load_for_run(&args.scene, &args.set, args.seed)?;
     let report = match args.backend {
         Backend::Sim => {
-            nbv_sweep::episode::check_output(&args.output)?;
             let mut observer = ProgressObserver::new(args.quiet);
-            let (config, exploration) =
-                nbv_sweep::episode::explore_in_twin(&scene, args.mode.into(), &mut observer)?;
-            observer.finish();
-            nbv_sweep::episode::finish_episode(
+            let extras = nbv_sweep::episode::Extras {
+                pictures: !args.no_pictures,
+                record: args.record,
+            };
+            let report = nbv_sweep::episode::run_episode(
                 &scene,
-                &config,
-                &exploration,
+                args.mode.into(),
                 &args.output,
-                !args.no_pictures,
-            )?
+                extras,
+                &mut observer,
+            );
+            observer.finish();
+            report?
+        }
+        Backend::Hw if args.record => {
+            anyhow::bail!("--record: episodes are recorded in the twin only (--backend sim)")
         }
         Backend::Hw => run_hw(&scene, &args)?,
     };

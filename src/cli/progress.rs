@@ -32,7 +32,7 @@ impl ProgressObserver {
 }
 
 impl ExploreObserver for ProgressObserver {
-    fn event(&mut self, event: &ExploreEvent) {
+    fn event(&mut self, event: &ExploreEvent<'_>) {
         let msg = match event {
             ExploreEvent::SweepStarted { waypoints } => {
                 format!("phase 1: laser sweep through {waypoints} waypoints")
@@ -41,11 +41,13 @@ impl ExploreObserver for ProgressObserver {
                 format!("phase 1: {lines} scan lines, {points} points; segmenting")
             }
             ExploreEvent::Segmented { objects } => format!("phase 1: {objects} object(s)"),
-            ExploreEvent::ObjectStarted { object } => format!("object {object}: exploring"),
-            ExploreEvent::Candidates { object, candidates } => {
+            ExploreEvent::ObjectStarted { object, .. } => format!("object {object}: exploring"),
+            ExploreEvent::Candidates {
+                object, candidates, ..
+            } => {
                 format!("object {object}: {candidates} candidate viewpoints")
             }
-            ExploreEvent::ViewFailed { object, reason } => {
+            ExploreEvent::ViewFailed { object, reason, .. } => {
                 tracing::info!(object, reason, "viewpoint failed");
                 format!("object {object}: viewpoint failed, trying the next")
             }
@@ -53,13 +55,21 @@ impl ExploreObserver for ProgressObserver {
                 object,
                 views,
                 gain,
+                ..
             } => {
                 format!("object {object}: view {views} taken, gain {gain:.2}")
             }
-            ExploreEvent::ObjectDone { object, reason } => {
+            ExploreEvent::ObjectDone { object, reason, .. } => {
                 format!("object {object}: done ({reason:?})")
             }
-            ExploreEvent::Registered { object } => format!("object {object}: registered"),
+            ExploreEvent::Registered { object, .. } => format!("object {object}: registered"),
+            ExploreEvent::Retreated { object } => {
+                format!("object {object}: no viewpoint reachable, retreating")
+            }
+            // The data events carry nothing a progress line shows.
+            ExploreEvent::Moved { .. }
+            | ExploreEvent::SweepCloud { .. }
+            | ExploreEvent::GridUpdated { .. } => return,
         };
         self.bar.set_message(msg);
     }

@@ -80,6 +80,10 @@ pub struct RunArgs {
     /// Also write each episode's pictures.
     #[arg(long)]
     pictures: bool,
+    /// Also record each episode for the Rerun viewer: `episodes/<id>/episode.rrd` (a build
+    /// with `--features rerun`).
+    #[arg(long)]
+    record: bool,
     /// No progress bar.
     #[arg(long, short)]
     quiet: bool,
@@ -117,6 +121,7 @@ fn run_grid(args: RunArgs) -> Result<ExitCode> {
         shard: args.shard,
         jobs: args.jobs,
         pictures: args.pictures,
+        record: args.record,
     };
     let prepared = sweep.prepare()?;
     let todo = prepared.todo.len();

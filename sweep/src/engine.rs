@@ -82,6 +82,8 @@ pub struct SweepRun {
     pub jobs: usize,
     /// Also write each episode's pictures.
     pub pictures: bool,
+    /// Also record each episode for the Rerun viewer (`episode.rrd`, feature `rerun`).
+    pub record: bool,
 }
 
 /// A sweep directory ready to run ([`SweepRun::prepare`]).
@@ -105,6 +107,9 @@ impl SweepRun {
             .with_context(|| format!("reading {}", self.grid_file.display()))?;
         if self.jobs == 0 {
             bail!("--jobs must be at least 1");
+        }
+        if self.record && !cfg!(feature = "rerun") {
+            bail!("{}", crate::episode::NO_RECORDING);
         }
         let out = &self.output;
         if out.exists() && !out.is_dir() {
@@ -162,7 +167,11 @@ impl SweepRun {
                 .todo
                 .par_iter()
                 .map(|e| {
-                    let r = run_one(&prepared.grid, e, &self.output, self.pictures);
+                    let extras = crate::episode::Extras {
+                        pictures: self.pictures,
+                        record: self.record,
+                    };
+                    let r = run_one(&prepared.grid, e, &self.output, extras);
                     done();
                     r.with_context(|| format!("episode {} ({})", e.id, e.scene.label()))
                 })
@@ -183,7 +192,12 @@ impl SweepRun {
 
 /// One episode: its scene, the episode ([`crate::episode::run_episode`]), then the row
 /// file (written last, so a row exists only for a finished episode).
-fn run_one(grid: &SweepGrid, e: &Episode, out: &Path, pictures: bool) -> Result<()> {
+fn run_one(
+    grid: &SweepGrid,
+    e: &Episode,
+    out: &Path,
+    extras: crate::episode::Extras,
+) -> Result<()> {
     let scene = e.scene(&grid.file)?;
     let dir = out.join("episodes").join(&e.id);
     // No row: whatever the directory holds is from an interrupted run of this episode
@@ -197,7 +211,7 @@ fn run_one(grid: &SweepGrid, e: &Episode, out: &Path, pictures: bool) -> Result<
         &scene,
         e.mode,
         &dir,
-        pictures,
+        extras,
         &mut nbv_core::pipeline::NoObserver,
     )?;
     let row = EpisodeRow::new(e, &report, t.elapsed().as_secs_f64());

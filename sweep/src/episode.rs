@@ -8,6 +8,7 @@
 //! OUT/mid_range.ply              the phase-1 sweep cloud
 //! OUT/objects/<name>/model.ply   the registered model; views/view_NN.ply each view
 //! OUT/*.png                      the pictures, when asked ([`crate::pictures`])
+//! OUT/episode.rrd                the Rerun recording, when asked (feature `rerun`)
 //! ```
 
 use crate::error::{Context, Result, bail};
@@ -17,18 +18,61 @@ use nbv_core::pipeline::{Exploration, ExploreConfig, ExploreMode, ExploreObserve
 use nbv_sim::rig::SimRig;
 use std::path::Path;
 
+/// What an episode writes besides the report, the models and the map.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Extras {
+    /// The pictures ([`crate::pictures`]).
+    pub pictures: bool,
+    /// The recording for the Rerun viewer, `episode.rrd` (needs the feature `rerun`).
+    pub record: bool,
+}
+
+/// The error of [`Extras::record`] in a build without the feature `rerun`.
+pub const NO_RECORDING: &str =
+    "--record: this build has no episode recording; build it with `--features rerun`";
+
 /// One exploration of `scene` in the twin, its events to `observer`, its outputs written
 /// into `out`.
 pub fn run_episode(
     scene: &nbv_scenes::Scene,
     mode: ExploreMode,
     out: &Path,
-    pictures: bool,
+    extras: Extras,
     observer: &mut dyn ExploreObserver,
 ) -> Result<ExploreReport> {
     check_output(out)?;
+    if extras.record {
+        return record_episode(scene, mode, out, extras.pictures, observer);
+    }
     let (config, exploration) = explore_in_twin(scene, mode, observer)?;
-    finish_episode(scene, &config, &exploration, out, pictures)
+    finish_episode(scene, &config, &exploration, out, extras.pictures)
+}
+
+/// [`run_episode`] with its events recorded into `out/episode.rrd` as well.
+#[cfg(feature = "rerun")]
+fn record_episode(
+    scene: &nbv_scenes::Scene,
+    mode: ExploreMode,
+    out: &Path,
+    pictures: bool,
+    observer: &mut dyn ExploreObserver,
+) -> Result<ExploreReport> {
+    let mut recorder = crate::recording::EpisodeRecorder::create(out, scene)?;
+    let (config, exploration) = explore_in_twin(scene, mode, &mut recorder.observe(observer))?;
+    let report = finish_episode(scene, &config, &exploration, out, pictures)?;
+    recorder.finish(scene, &exploration, &report)?;
+    Ok(report)
+}
+
+#[cfg(not(feature = "rerun"))]
+fn record_episode(
+    _: &nbv_scenes::Scene,
+    _: ExploreMode,
+    _: &Path,
+    _: bool,
+    _: &mut dyn ExploreObserver,
+) -> Result<ExploreReport> {
+    Err(crate::SweepError::Invalid(NO_RECORDING.into()))
 }
 
 /// Fails unless `out` is a directory or does not exist yet.

@@ -15,6 +15,7 @@
 //!   [`plots`]: SVG plots.
 //! - [`views`]: what `nbv views` lists — each object's next-best-view candidates,
 //!   planned and checked in the twin.
+//! - [`recording`] (feature `rerun`): `episode.rrd`, an episode for the Rerun viewer.
 //! - [`error`]: the error type, [`SweepError`].
 
 pub mod engine;
@@ -27,6 +28,8 @@ pub mod matching;
 pub mod objectives;
 pub mod pictures;
 pub mod plots;
+#[cfg(feature = "rerun")]
+pub mod recording;
 pub mod report;
 pub mod results;
 pub mod shard;

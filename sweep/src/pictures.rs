@@ -1,19 +1,29 @@
 //! The pictures of `nbv explore`: the scene, the map after phase 1 from the front and the
-//! back (Figures 7–8), each object's view sequence (Figure 9) and its model before and after
+//! back framed on the objects, with the unknown crust around them (Figures 7–8), each object's view sequence (Figure 9) and its model before and after
 //! registration coloured by view (Figure 11). Pictures only add to the run: without a GPU
 //! adapter, or if drawing fails, a warning is printed and the run goes on.
 
 use crate::error::{Context, Result};
 use crate::report::ExploreReport;
+use nalgebra::{Point3, Vector3};
 use nbv_core::cloud::PointCloud;
 use nbv_core::occupancy::ReducedMap;
 use nbv_core::pipeline::Exploration;
 use nbv_scenes::Scene;
 use nbv_sim::render::{
-    Camera, CloudColoring, Color, LineSet, PointSet, RenderScene, Renderer, UnknownVoxels,
-    fitted_front_and_back, front_and_back, map_items, save_png, scene_items,
+    BACK_AZIMUTH, Camera, CloudColoring, Color, FRONT_AZIMUTH, LineSet, PointSet, RenderScene,
+    Renderer, UnknownVoxels, fitted_front_and_back, front_and_back, map_items, map_items_around,
+    save_png, scene_items,
 };
 use std::path::Path;
+
+/// How far (m) around an object's cluster the map pictures show unknown voxels.
+const CRUST_MARGIN: f64 = 0.06;
+/// How much (m) around those regions the map pictures frame.
+const FRAME_MARGIN: f64 = 0.10;
+/// Elevation (rad) of the map pictures' cameras: from high enough that the crust in
+/// front of an object does not hide its top.
+const MAP_ELEVATION: f64 = 0.95;
 
 const WIDTH: u32 = 1280;
 const HEIGHT: u32 = 960;
@@ -48,8 +58,32 @@ fn draw_all(
     let grid = &exploration.phase_one.grid;
     let reduced = ReducedMap::from_grid(grid);
     let g = grid.geometry();
-    let (front, back) = front_and_back(g.min(), g.max(), aspect);
-    let map = map_items(grid, &reduced, UnknownVoxels::Occluded);
+    // As Figures 7–8: the objects' voxels and the unknown crust around them, framed on
+    // the objects (the crust of the space the sweep never looked at would wall them in).
+    let regions: Vec<_> = exploration
+        .objects
+        .iter()
+        .filter_map(|o| o.cluster.bounds())
+        .map(|(lo, hi)| grown(lo, hi, CRUST_MARGIN))
+        .collect();
+    let (map, (front, back)) = if regions.is_empty() {
+        (
+            map_items(grid, &reduced, UnknownVoxels::Occluded),
+            front_and_back(g.min(), g.max(), aspect),
+        )
+    } else {
+        let framed: Vec<_> = regions
+            .iter()
+            .flat_map(|(lo, hi)| corners(grown(*lo, *hi, FRAME_MARGIN)))
+            .collect();
+        (
+            map_items_around(grid, &reduced, &regions),
+            (
+                Camera::fit(&framed, FRONT_AZIMUTH, MAP_ELEVATION, aspect),
+                Camera::fit(&framed, BACK_AZIMUTH, MAP_ELEVATION, aspect),
+            ),
+        )
+    };
     draw(renderer, &map, &front, &out.join("map_front.png"))?;
     draw(renderer, &map, &back, &out.join("map_back.png"))?;
 
@@ -88,6 +122,23 @@ fn draw_all(
         draw_cloud(renderer, &after, &camera, &dir.join("model_after.png"))?;
     }
     Ok(())
+}
+
+/// A box grown by `m` on every side.
+fn grown(lo: Point3<f64>, hi: Point3<f64>, m: f64) -> (Point3<f64>, Point3<f64>) {
+    let d = Vector3::repeat(m);
+    (lo - d, hi + d)
+}
+
+/// The eight corners of a box.
+fn corners((lo, hi): (Point3<f64>, Point3<f64>)) -> [Point3<f64>; 8] {
+    std::array::from_fn(|k| {
+        Point3::new(
+            if k & 1 == 0 { lo.x } else { hi.x },
+            if k & 2 == 0 { lo.y } else { hi.y },
+            if k & 4 == 0 { lo.z } else { hi.z },
+        )
+    })
 }
 
 fn draw_cloud(renderer: &Renderer, cloud: &PointCloud, camera: &Camera, path: &Path) -> Result<()> {

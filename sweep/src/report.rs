@@ -328,6 +328,24 @@ pub struct Totals {
     pub times: Times,
 }
 
+/// The share of an object's true surface (`mesh`, above the table) that `model` covers
+/// within [`COVERAGE_TOLERANCE`]: the report's coverage.
+pub fn coverage(
+    scene: &Scene,
+    mesh: &nbv_core::mesh::TriMesh,
+    model: &nbv_core::cloud::PointCloud,
+) -> f64 {
+    surface_coverage(
+        mesh,
+        model,
+        COVERAGE_TOLERANCE,
+        scene.table.top() + 0.005,
+        COVERAGE_SAMPLES,
+        scene.seed,
+    )
+    .share()
+}
+
 /// Measures `exploration` against the scene's truth.
 pub fn evaluate(
     scene: &Scene,
@@ -355,19 +373,8 @@ pub fn evaluate(
         let name = truth.map_or(format!("cluster-{}", object.index), |i| {
             scene.objects[i].name.clone()
         });
-        let coverage_of = |model: &nbv_core::cloud::PointCloud| {
-            truth.map(|i| {
-                surface_coverage(
-                    &meshes[i],
-                    model,
-                    COVERAGE_TOLERANCE,
-                    floor,
-                    COVERAGE_SAMPLES,
-                    scene.seed,
-                )
-                .share()
-            })
-        };
+        let coverage_of =
+            |model: &nbv_core::cloud::PointCloud| truth.map(|i| coverage(scene, &meshes[i], model));
         let score = |poses: &[Pose],
                      converged: bool,
                      accepted: bool,

@@ -24,6 +24,8 @@ pub(super) struct Observation {
     pub frame_points: usize,
     /// The object's points of the frame.
     pub cloud: PointCloud,
+    /// The whole frame (world frame).
+    pub frame: PointCloud,
     /// Eq. (5) over the predicted voxels.
     pub gain: InformationGain,
 }
@@ -68,6 +70,7 @@ pub(super) fn acquire_and_update(
         sensor_pose: pose,
         frame_points: frame.len(),
         cloud,
+        frame,
         gain,
     })
 }

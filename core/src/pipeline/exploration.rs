@@ -45,8 +45,6 @@ pub fn explore(
     let mut objects = Vec::new();
     let nbv = NextBestView::new(config.nbv, ep.rig.camera.spec())?;
     for (j, cluster) in segmentation.clusters.iter().enumerate() {
-        ep.observer
-            .event(&ExploreEvent::ObjectStarted { object: j });
         let region =
             ObjectRegion::of_cluster(cluster, segmentation.table.as_ref(), config.object_margin);
         let mut object = ObjectExploration {
@@ -61,6 +59,10 @@ pub fn explore(
             registration_error: None,
             times: StepTimes::default(),
         };
+        ep.observer.event(&ExploreEvent::ObjectStarted {
+            object: j,
+            cluster: &object.cluster,
+        });
         if config.mode != ExploreMode::MidOnly {
             let table = segmentation.table.as_ref();
             explore_object(&mut ep, &nbv, &mut map, &region, table, &mut object)?;
@@ -72,6 +74,7 @@ pub fn explore(
         ep.observer.event(&ExploreEvent::ObjectDone {
             object: j,
             reason: stop,
+            stop: object.stop,
         });
         let dropped = matches!(object.stop, ObjectStop::NotAnObject { .. });
         if !dropped && object.views.iter().any(|v| !v.cloud.is_empty()) {
@@ -84,7 +87,10 @@ pub fn explore(
                 Ok(r) => object.registration = Some(r),
                 Err(e) => object.registration_error = Some(e.to_string()),
             }
-            ep.observer.event(&ExploreEvent::Registered { object: j });
+            ep.observer.event(&ExploreEvent::Registered {
+                object: j,
+                exploration: &object,
+            });
         }
         objects.push(object);
     }

@@ -66,6 +66,7 @@ pub(super) fn explore_object(
         ep.observer.event(&ExploreEvent::Candidates {
             object: j,
             candidates: list.candidates.len(),
+            list: &list,
         });
         if let Some(reason) = config
             .stop
@@ -119,6 +120,9 @@ pub(super) fn explore_object(
             let moved = timed(&mut object.times.motion, || {
                 ep.rig.arm.execute(&planned.path)
             });
+            if let Ok(motion) = &moved {
+                ep.observer.event(&ExploreEvent::Moved { motion });
+            }
             if let Err(e) = moved {
                 let collision = matches!(e, RigError::Collision { .. });
                 ep.collisions += usize::from(collision);
@@ -136,7 +140,6 @@ pub(super) fn explore_object(
                 }
                 continue;
             }
-            ep.trail.push(planned.path);
             let seen = acquire_and_update(
                 ep.rig,
                 config,
@@ -146,6 +149,8 @@ pub(super) fn explore_object(
                 table,
                 &mut object.times,
             )?;
+            ep.observer
+                .event(&ExploreEvent::GridUpdated { grid: &*grid });
             visited.push(candidate.viewpoint.pose);
             let first_points = object.views.is_empty().then_some(seen.cloud.len());
             let gain = seen.gain;
@@ -165,11 +170,18 @@ pub(super) fn explore_object(
                 failures_before: failures_since_view,
             });
             failures_since_view = 0;
-            ep.observer.event(&ExploreEvent::ViewTaken {
-                object: j,
-                views: object.views.len(),
-                gain: config.stop.measure.value(&gain),
-            });
+            if let Some(view) = object.views.last() {
+                ep.observer.event(&ExploreEvent::ViewTaken {
+                    object: j,
+                    views: object.views.len(),
+                    gain: config.stop.measure.value(&gain),
+                    view,
+                    path: &planned.path,
+                    frame: &seen.frame,
+                    times: &object.times,
+                });
+            }
+            ep.trail.push(planned.path);
             latest_gain = Some(gain);
             taken = true;
             retreated = false;
@@ -187,9 +199,11 @@ pub(super) fn explore_object(
             // it came since phase 1 — space it has just moved through — and samples again.
             if !retreated && !ep.trail.is_empty() {
                 retreated = true;
+                ep.observer.event(&ExploreEvent::Retreated { object: j });
                 let back = retrace(&ep.trail, ep.rig.arm.joints()?);
                 match timed(&mut object.times.motion, || ep.rig.arm.execute(&back)) {
-                    Ok(_) => {
+                    Ok(motion) => {
+                        ep.observer.event(&ExploreEvent::Moved { motion: &motion });
                         ep.trail.clear();
                         object.retreats += 1;
                         continue;
@@ -215,6 +229,7 @@ fn fail(
     observer.event(&ExploreEvent::ViewFailed {
         object: object.index,
         reason: reason.clone(),
+        viewpoint,
     });
     object.failures.push(ViewFailure {
         viewpoint: *viewpoint,

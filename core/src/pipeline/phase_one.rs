@@ -66,6 +66,13 @@ pub(super) fn run(
             cloud.transform(&a.correction);
             workcell = Some(a);
         }
+        ep.observer.event(&ExploreEvent::Moved {
+            motion: &sweep.motion,
+        });
+        ep.observer.event(&ExploreEvent::SweepCloud {
+            lines: &sweep.lines,
+            cloud: &cloud,
+        });
         (sweep.lines.len(), 0, cloud)
     };
     ep.observer.event(&ExploreEvent::SweepDone {
@@ -93,6 +100,9 @@ pub(super) fn run(
     })?;
     ep.observer.event(&ExploreEvent::Segmented {
         objects: one.segmentation.clusters.len(),
+    });
+    ep.observer.event(&ExploreEvent::GridUpdated {
+        grid: &one.map.grid,
     });
     let report = PhaseOneReport {
         lines,
@@ -143,7 +153,7 @@ fn survey(
         });
         let Ok(planned) = planned else { continue };
         match timed(&mut times.motion, || rig.arm.execute(&planned.path)) {
-            Ok(_) => {}
+            Ok(motion) => ep.observer.event(&ExploreEvent::Moved { motion: &motion }),
             Err(RigError::Collision { .. }) => {
                 ep.collisions += 1;
                 continue;

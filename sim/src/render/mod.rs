@@ -55,7 +55,7 @@ pub use color::Color;
 pub use error::RenderError;
 pub use lighting::Lighting;
 pub use line_set::LineSet;
-pub use map_items::{UnknownVoxels, map_items};
+pub use map_items::{UnknownVoxels, map_items, map_items_around};
 pub use mesh_item::{MeshItem, Shading};
 pub use png_file::save_png;
 pub use point_set::{CloudColoring, PointSet};
