@@ -150,7 +150,7 @@ pub(super) fn explore_object(
                 &mut object.times,
             )?;
             ep.observer
-                .event(&ExploreEvent::GridUpdated { grid: &*grid });
+                .event(&ExploreEvent::GridUpdated { grid: &map.grid });
             visited.push(candidate.viewpoint.pose);
             let first_points = object.views.is_empty().then_some(seen.cloud.len());
             let gain = seen.gain;
