@@ -1,6 +1,8 @@
 //! [`ErrorModel`]: the errors the twin injects into the poses the rig reports.
 
+use super::Check;
 use super::PoseSpec;
+use crate::error::SceneError;
 use serde::{Deserialize, Serialize};
 
 /// What separates the reported sensor poses from the true ones, so registration has real
@@ -82,5 +84,28 @@ impl Default for PoseNoise {
             translation_sigma: 0.002,
             rotation_sigma_deg: 0.2,
         }
+    }
+}
+
+impl ErrorModel {
+    /// Checks every value of `[errors]`; the error names the key.
+    pub(crate) fn check(&self, c: &Check) -> Result<(), SceneError> {
+        c.pose("errors.hand_eye", &self.hand_eye)?;
+        c.finite("errors.joint_offset_deg", &self.joint_offset_deg)?;
+        c.within(
+            "errors.pose_noise.translation_sigma",
+            self.pose_noise.translation_sigma,
+            0.0,
+            1.0,
+            "[0, 1] m",
+        )?;
+        c.within(
+            "errors.pose_noise.rotation_sigma_deg",
+            self.pose_noise.rotation_sigma_deg,
+            0.0,
+            90.0,
+            "[0, 90] degrees",
+        )?;
+        c.within("errors.scale", self.scale, 0.0, 100.0, "[0, 100]")
     }
 }

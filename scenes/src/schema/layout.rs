@@ -1,5 +1,7 @@
 //! [`Layout`]: the tolerances that validation applies to the placement of objects.
 
+use super::Check;
+use crate::error::SceneError;
 use serde::{Deserialize, Serialize};
 
 /// Placement rules checked on load (the paper: objects lie on a plane, with a minimum
@@ -23,5 +25,26 @@ impl Default for Layout {
             min_object_distance: 0.03,
             rest_tolerance: 0.002,
         }
+    }
+}
+
+impl Layout {
+    /// Checks every value of `[layout]`; the error names the key.
+    pub(crate) fn check(&self, c: &Check) -> Result<(), SceneError> {
+        c.within(
+            "layout.min_object_distance",
+            self.min_object_distance,
+            0.0,
+            1.0,
+            "[0, 1] m",
+        )?;
+        c.within(
+            "layout.rest_tolerance",
+            self.rest_tolerance,
+            0.0,
+            0.05,
+            "[0, 0.05] m",
+        )?;
+        Ok(())
     }
 }

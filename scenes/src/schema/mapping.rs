@@ -1,5 +1,7 @@
 //! [`Mapping`]: the log-odds occupancy grid's sensor model and thresholds.
 
+use super::Check;
+use crate::error::{Problem, SceneError};
 use serde::{Deserialize, Serialize};
 
 /// Occupancy update of eq. (1)–(2): `+u` at the hit voxel, `−u` along the ray, with
@@ -36,5 +38,37 @@ impl Mapping {
     /// ```
     pub fn log_odds_hit(&self) -> f64 {
         (self.p_hit / (1.0 - self.p_hit)).ln()
+    }
+}
+
+impl Mapping {
+    /// Checks every value of `[mapping]`; the error names the key.
+    pub(crate) fn check(&self, c: &Check) -> Result<(), SceneError> {
+        c.within(
+            "mapping.p_hit",
+            self.p_hit,
+            0.5 + 1e-9,
+            1.0 - 1e-9,
+            "(0.5, 1)",
+        )?;
+        let u = self.log_odds_hit();
+        c.within(
+            "mapping.epsilon_o",
+            self.epsilon_o,
+            0.0,
+            u - 1e-9,
+            &format!("[0, u) with u = ln(p_hit/(1-p_hit)) = {u:.4}"),
+        )?;
+        c.finite("mapping.clamp", &self.clamp)?;
+        if !(self.clamp[0] < -self.epsilon_o && self.clamp[1] > self.epsilon_o) {
+            return Err(c.err(
+                "mapping.clamp",
+                Problem::OutOfRange {
+                    value: format!("[{}, {}]", self.clamp[0], self.clamp[1]),
+                    expected: "min < -epsilon_o and max > epsilon_o".into(),
+                },
+            ));
+        }
+        Ok(())
     }
 }

@@ -1,9 +1,12 @@
 //! The scene file schema: one struct per TOML section. The rustdoc of every field is the
 //! schema's documentation (units, meaning, default). Unknown keys are errors everywhere.
+//! Each section's file also checks its values (`check`, over [`Check`]); `validate` runs
+//! them in file order and then checks the scene's geometry.
 //!
 //! Defaults are the paper's values where it gives them (Aleotti et al. 2014), OctoMap's and
 //! OpenRAVE's where it is silent (see `shared/FACTS.md`), and a stated assumption otherwise.
 
+mod check;
 mod error_model;
 mod layout;
 mod mapping;
@@ -19,6 +22,7 @@ mod sweep;
 mod table;
 mod workspace;
 
+pub(crate) use check::Check;
 pub use error_model::{ErrorModel, PoseNoise};
 pub use layout::Layout;
 pub use mapping::Mapping;

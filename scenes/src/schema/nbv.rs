@@ -1,5 +1,7 @@
 //! [`Nbv`]: the next-best-view search of Algorithm 2 and its stopping rule.
 
+use super::Check;
+use crate::error::{Problem, SceneError};
 use nbv_core::nbv::{NbvParams, Objective, StopRule};
 use serde::{Deserialize, Serialize};
 
@@ -193,4 +195,71 @@ pub enum GainMeasureName {
     Eq5,
     /// The Bernoulli Kullback–Leibler divergence.
     Kl,
+}
+
+impl Nbv {
+    /// Checks every value of `[nbv]`; the error names the key.
+    pub(crate) fn check(&self, c: &Check) -> Result<(), SceneError> {
+        c.positive("nbv.radius", self.radius)?;
+        c.within(
+            "nbv.dtheta_deg",
+            self.dtheta_deg,
+            0.1,
+            180.0,
+            "[0.1, 180] degrees",
+        )?;
+        c.within(
+            "nbv.theta_max_deg",
+            self.theta_max_deg,
+            0.0,
+            180.0,
+            "[0, 180] degrees",
+        )?;
+        c.within(
+            "nbv.dphi_deg",
+            self.dphi_deg,
+            0.1,
+            360.0,
+            "[0.1, 360] degrees",
+        )?;
+        c.within("nbv.alpha_u", self.alpha_u, 0.0, f64::MAX, "≥ 0")?;
+        c.within("nbv.alpha_o", self.alpha_o, 0.0, f64::MAX, "≥ 0")?;
+        if self.alpha_u + self.alpha_o <= 0.0 {
+            return Err(c.err(
+                "nbv.alpha_u",
+                Problem::NotPositive("alpha_u + alpha_o = 0".into()),
+            ));
+        }
+        c.within(
+            "nbv.gain_threshold",
+            self.gain_threshold,
+            0.0,
+            f64::MAX,
+            "≥ 0",
+        )?;
+        c.at_least("nbv.ray_subsample", self.ray_subsample.into(), 1)?;
+        c.at_least("nbv.rolls", self.rolls.into(), 1)?;
+        c.within(
+            "nbv.visited_min_distance",
+            self.visited_min_distance,
+            0.0,
+            10.0,
+            "[0, 10] m",
+        )?;
+        c.at_least(
+            "nbv.max_views_per_object",
+            self.max_views_per_object.into(),
+            1,
+        )?;
+        c.at_least("nbv.frames_per_view", self.frames_per_view.into(), 1)?;
+        c.within("nbv.cost_weight", self.cost_weight, 0.0, f64::MAX, "≥ 0")?;
+        c.within(
+            "nbv.relative_gain",
+            self.relative_gain,
+            0.0,
+            1.0 - f64::EPSILON,
+            "[0, 1)",
+        )?;
+        Ok(())
+    }
 }

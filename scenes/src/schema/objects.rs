@@ -1,6 +1,8 @@
 //! [`ObjectSpec`] and [`ObstacleSpec`]: what stands on the table.
 
+use super::Check;
 use super::PoseSpec;
+use crate::error::{Problem, SceneError};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -46,4 +48,32 @@ pub struct ObstacleSpec {
 
 fn default_known() -> bool {
     true
+}
+
+impl ObjectSpec {
+    /// Checks the name and pose of `objects[i]`; the error names the key. (Names unique
+    /// across objects and obstacles, and the meshes, are checked with the whole scene.)
+    pub(crate) fn check(&self, i: usize, c: &Check) -> Result<(), SceneError> {
+        c.name(&format!("objects[{i}].name"), &self.name)?;
+        c.pose(&format!("objects[{i}].pose"), &self.pose)
+    }
+}
+
+impl ObstacleSpec {
+    /// Checks the name, pose and shape (a box or a mesh, not both) of `obstacles[i]`;
+    /// the error names the key.
+    pub(crate) fn check(&self, i: usize, c: &Check) -> Result<(), SceneError> {
+        c.name(&format!("obstacles[{i}].name"), &self.name)?;
+        c.pose(&format!("obstacles[{i}].pose"), &self.pose)?;
+        match (&self.box_size, &self.mesh) {
+            (Some(b), None) => {
+                for (a, v) in b.iter().enumerate() {
+                    c.positive(&format!("obstacles[{i}].box[{a}]"), *v)?;
+                }
+                Ok(())
+            }
+            (None, Some(_)) => Ok(()),
+            _ => Err(c.err(format!("obstacles[{i}]"), Problem::ShapeChoice)),
+        }
+    }
 }

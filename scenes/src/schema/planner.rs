@@ -1,5 +1,7 @@
 //! [`Planner`]: the joint-space bidirectional RRT and its post-processing.
 
+use super::Check;
+use crate::error::SceneError;
 use serde::{Deserialize, Serialize};
 
 /// BiRRT parameters (OpenRAVE's defaults of the paper's era).
@@ -30,5 +32,23 @@ impl Default for Planner {
             goal_bias: 0.05,
             tries: 3,
         }
+    }
+}
+
+impl Planner {
+    /// Checks every value of `[planner]`; the error names the key.
+    pub(crate) fn check(&self, c: &Check) -> Result<(), SceneError> {
+        c.at_least("planner.max_iterations", self.max_iterations.into(), 1)?;
+        c.within("planner.step_rad", self.step_rad, 1e-6, 3.15, "(0, π] rad")?;
+        c.within(
+            "planner.edge_check_rad",
+            self.edge_check_rad,
+            1e-6,
+            3.15,
+            "(0, π] rad",
+        )?;
+        c.within("planner.goal_bias", self.goal_bias, 0.0, 1.0, "[0, 1]")?;
+        c.at_least("planner.tries", self.tries.into(), 1)?;
+        Ok(())
     }
 }

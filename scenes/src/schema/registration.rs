@@ -1,5 +1,7 @@
 //! [`Registration`]: p-ICP-GPA (and the sequential ICP baseline).
 
+use super::Check;
+use crate::error::SceneError;
 use serde::{Deserialize, Serialize};
 
 /// Global registration of an object's views.
@@ -52,5 +54,22 @@ impl Default for Registration {
             calibrate_hand_eye: true,
             baselines: true,
         }
+    }
+}
+
+impl Registration {
+    /// Checks every value of `[registration]`; the error names the key.
+    pub(crate) fn check(&self, c: &Check) -> Result<(), SceneError> {
+        c.positive("registration.d_max", self.d_max)?;
+        c.at_least("registration.max_iterations", self.max_iterations.into(), 1)?;
+        c.positive("registration.tolerance", self.tolerance)?;
+        c.at_least(
+            "registration.points_per_view",
+            self.points_per_view.into(),
+            3,
+        )?;
+        c.positive("registration.max_correction_deg", self.max_correction_deg)?;
+        c.positive("registration.max_correction_m", self.max_correction_m)?;
+        Ok(())
     }
 }

@@ -1,6 +1,8 @@
 //! [`RobotSpec`]: which robot, where, and its home configuration.
 
+use super::Check;
 use super::PoseSpec;
+use crate::error::SceneError;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -24,4 +26,14 @@ pub struct RobotSpec {
 
 fn default_home() -> [f64; 6] {
     [0.0, 0.0, -90.0, 0.0, 90.0, 0.0]
+}
+
+impl RobotSpec {
+    /// Checks the values of `[robot]` but the URDF (which is loaded and checked with the
+    /// scene's geometry); the error names the key.
+    pub(crate) fn check(&self, c: &Check) -> Result<(), SceneError> {
+        c.pose("robot.base", &self.base)?;
+        c.finite("robot.home_deg", &self.home_deg)?;
+        Ok(())
+    }
 }

@@ -1,6 +1,8 @@
 //! [`Segmentation`]: outlier removal, table-plane extraction and Euclidean clustering of
 //! the mid-range cloud (the paper follows PCL; defaults are PCL tutorial values).
 
+use super::Check;
+use crate::error::SceneError;
 use serde::{Deserialize, Serialize};
 
 /// Parameters of phase-1 segmentation into object clusters.
@@ -41,5 +43,32 @@ impl Default for Segmentation {
             min_cluster_points: 100,
             max_cluster_points: 25_000,
         }
+    }
+}
+
+impl Segmentation {
+    /// Checks every value of `[segmentation]`; the error names the key.
+    pub(crate) fn check(&self, c: &Check) -> Result<(), SceneError> {
+        c.within("segmentation.voxel", self.voxel, 0.0, 1.0, "[0, 1] m")?;
+        c.at_least("segmentation.outlier_k", self.outlier_k.into(), 1)?;
+        c.positive("segmentation.outlier_std", self.outlier_std)?;
+        c.positive("segmentation.plane_distance", self.plane_distance)?;
+        c.at_least(
+            "segmentation.plane_iterations",
+            self.plane_iterations.into(),
+            1,
+        )?;
+        c.positive("segmentation.cluster_tolerance", self.cluster_tolerance)?;
+        c.at_least(
+            "segmentation.min_cluster_points",
+            self.min_cluster_points.into(),
+            1,
+        )?;
+        c.at_least(
+            "segmentation.max_cluster_points",
+            self.max_cluster_points.into(),
+            self.min_cluster_points.into(),
+        )?;
+        Ok(())
     }
 }

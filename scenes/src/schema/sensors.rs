@@ -1,6 +1,8 @@
 //! [`Sensors`]: the mid-range line scanner (SICK LMS400) and the short-range depth camera
 //! (Dinast IPA-1110), with their noise models.
 
+use super::Check;
+use crate::error::SceneError;
 use nbv_core::rig::{DepthCameraSpec, LineScannerSpec};
 use serde::{Deserialize, Serialize};
 
@@ -172,5 +174,118 @@ impl Default for CameraNoise {
             grazing_cutoff_deg: 80.0,
             range_margin: 0.05,
         }
+    }
+}
+
+impl MidRangeSensor {
+    /// Checks every value of `[sensors.mid_range]`; the error names the key.
+    pub(crate) fn check(&self, c: &Check) -> Result<(), SceneError> {
+        c.name("sensors.mid_range.frame", &self.frame)?;
+        c.interval("sensors.mid_range.range", self.range, true)?;
+        c.within(
+            "sensors.mid_range.fov_deg",
+            self.fov_deg,
+            f64::MIN_POSITIVE,
+            360.0,
+            "(0, 360] degrees",
+        )?;
+        c.within(
+            "sensors.mid_range.resolution_deg",
+            self.resolution_deg,
+            1e-4,
+            self.fov_deg,
+            "[0.0001, fov_deg] degrees",
+        )?;
+        c.positive("sensors.mid_range.line_rate_hz", self.line_rate_hz)?;
+        c.within(
+            "sensors.mid_range.noise.range_sigma",
+            self.noise.range_sigma,
+            0.0,
+            1.0,
+            "[0, 1] m",
+        )?;
+        Ok(())
+    }
+}
+
+impl ShortRangeSensor {
+    /// Checks every value of `[sensors.short_range]`; the error names the key.
+    pub(crate) fn check(&self, c: &Check) -> Result<(), SceneError> {
+        c.name("sensors.short_range.frame", &self.frame)?;
+        c.interval("sensors.short_range.range", self.range, true)?;
+        c.within(
+            "sensors.short_range.fov_deg",
+            self.fov_deg,
+            f64::MIN_POSITIVE,
+            179.0,
+            "(0, 179] degrees",
+        )?;
+        c.within(
+            "sensors.short_range.width",
+            f64::from(self.width),
+            1.0,
+            10_000.0,
+            "1..=10000 pixels",
+        )?;
+        c.within(
+            "sensors.short_range.height",
+            f64::from(self.height),
+            1.0,
+            10_000.0,
+            "1..=10000 pixels",
+        )?;
+        c.positive("sensors.short_range.frame_rate_hz", self.frame_rate_hz)?;
+        let n = &self.noise;
+        let k = "sensors.short_range.noise";
+        c.within(
+            &format!("{k}.range_sigma_at_1m"),
+            n.range_sigma_at_1m,
+            0.0,
+            1.0,
+            "[0, 1] m",
+        )?;
+        c.within(
+            &format!("{k}.range_sigma_exponent"),
+            n.range_sigma_exponent,
+            0.0,
+            4.0,
+            "[0, 4]",
+        )?;
+        c.within(
+            &format!("{k}.dropout_probability"),
+            n.dropout_probability,
+            0.0,
+            1.0,
+            "[0, 1]",
+        )?;
+        c.within(
+            &format!("{k}.grazing_start_deg"),
+            n.grazing_start_deg,
+            0.0,
+            90.0,
+            "[0, 90] degrees",
+        )?;
+        c.within(
+            &format!("{k}.grazing_cutoff_deg"),
+            n.grazing_cutoff_deg,
+            n.grazing_start_deg,
+            90.0,
+            "[grazing_start_deg, 90] degrees",
+        )?;
+        c.within(
+            &format!("{k}.range_margin"),
+            n.range_margin,
+            0.0,
+            1.0,
+            "[0, 1] m",
+        )
+    }
+}
+
+impl Sensors {
+    /// Checks every value of `[sensors]`; the error names the key.
+    pub(crate) fn check(&self, c: &Check) -> Result<(), SceneError> {
+        self.mid_range.check(c)?;
+        self.short_range.check(c)
     }
 }

@@ -1,5 +1,7 @@
 //! [`Sweep`]: the phase-1 joint trajectory that carries the laser over the table.
 
+use super::Check;
+use crate::error::{Problem, SceneError};
 use nbv_core::kinematics::Joints;
 use serde::{Deserialize, Serialize};
 
@@ -49,5 +51,31 @@ impl Sweep {
             .iter()
             .map(|w| Joints::from_iterator(w.iter().map(|d| d.to_radians())))
             .collect()
+    }
+}
+
+impl Sweep {
+    /// Checks every value of `[sweep]`; the error names the key.
+    pub(crate) fn check(&self, c: &Check) -> Result<(), SceneError> {
+        if self.waypoints_deg.len() < 2 {
+            return Err(c.err(
+                "sweep.waypoints_deg",
+                Problem::OutOfRange {
+                    value: format!("{} waypoints", self.waypoints_deg.len()),
+                    expected: "at least 2".into(),
+                },
+            ));
+        }
+        for (i, w) in self.waypoints_deg.iter().enumerate() {
+            c.finite(&format!("sweep.waypoints_deg[{i}]"), w)?;
+        }
+        c.within(
+            "sweep.joint_speed_fraction",
+            self.joint_speed_fraction,
+            1e-6,
+            1.0,
+            "(0, 1]",
+        )?;
+        Ok(())
     }
 }

@@ -1,5 +1,7 @@
 //! [`Table`]: the box the objects stand on.
 
+use super::Check;
+use crate::error::SceneError;
 use serde::{Deserialize, Serialize};
 
 /// The table: an axis-aligned box. Objects rest on its top face (`max[2]`).
@@ -16,5 +18,13 @@ impl Table {
     /// Height of the top surface.
     pub fn top(&self) -> f64 {
         self.max[2]
+    }
+}
+
+impl Table {
+    /// Checks every value of `[table]`; the error names the key.
+    pub(crate) fn check(&self, c: &Check) -> Result<(), SceneError> {
+        c.boxed("table", self.min, self.max)?;
+        Ok(())
     }
 }

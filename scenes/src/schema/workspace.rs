@@ -1,5 +1,7 @@
 //! [`Workspace`]: the box covered by the occupancy grid, and its resolution.
 
+use super::Check;
+use crate::error::{Problem, SceneError};
 use serde::{Deserialize, Serialize};
 
 /// The occupancy-grid workspace (world frame = robot base frame).
@@ -51,5 +53,44 @@ impl Workspace {
     /// Whether the point lies in the box (bounds included, with tolerance `tol`).
     pub fn contains(&self, p: &[f64; 3], tol: f64) -> bool {
         (0..3).all(|a| p[a] >= self.min[a] - tol && p[a] <= self.max[a] + tol)
+    }
+}
+
+/// Largest grid accepted (voxels).
+const MAX_VOXELS: usize = 100_000_000;
+
+impl Workspace {
+    /// Checks every value of `[workspace]`; the error names the key.
+    pub(crate) fn check(&self, c: &Check) -> Result<(), SceneError> {
+        c.boxed("workspace", self.min, self.max)?;
+        c.positive("workspace.resolution", self.resolution)?;
+        for a in 0..3 {
+            let side = self.max[a] - self.min[a];
+            let n = side / self.resolution;
+            if (n - n.round()).abs() > 1e-6 * n.max(1.0) || n.round() < 1.0 {
+                return Err(c.err(
+                    "workspace.resolution",
+                    Problem::ResolutionNotDividing {
+                        resolution: self.resolution,
+                        side,
+                        axis: ['x', 'y', 'z'][a],
+                    },
+                ));
+            }
+        }
+        let voxels = self
+            .dims()
+            .iter()
+            .try_fold(1usize, |acc, &d| acc.checked_mul(d));
+        match voxels {
+            Some(v) if v <= MAX_VOXELS => {}
+            other => {
+                return Err(c.err(
+                    "workspace",
+                    Problem::GridTooLarge(other.unwrap_or(usize::MAX)),
+                ));
+            }
+        }
+        Ok(())
     }
 }
