@@ -206,6 +206,8 @@ fn summary_text(s: &Summary, out: &Path, plots: &[String]) -> String {
               fail map/pGPA/ICP  worse  unconv  F acq / map\n";
         for l in &s.registration {
             let q = |v: (f64, f64)| format!("{:>5.1} / {:>5.1}", 1e3 * v.0, 1e3 * v.1);
+            // The baselines are absent when the sweep ran without them.
+            let q_or_dash = |v: Option<(f64, f64)>| v.map_or(format!("{:>13}", "-"), q);
             t += &format!(
                 "  x{:<4} {:<12} {:>2}   {}  {}  {}  {}  {}/{}/{}  {:>5}  {:>6}  {:>5.1} / {:>5.1}\n",
                 l.level,
@@ -213,8 +215,8 @@ fn summary_text(s: &Summary, out: &Path, plots: &[String]) -> String {
                 l.experiments,
                 q(l.acquired_quantiles),
                 q(l.map_quantiles),
-                q(l.pgpa_quantiles),
-                q(l.icp_quantiles),
+                q_or_dash(l.pgpa_quantiles),
+                q_or_dash(l.icp_quantiles),
                 l.gpa_failures,
                 l.pgpa_failures,
                 l.icp_failures,

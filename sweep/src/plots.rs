@@ -267,10 +267,12 @@ fn registration_vs_level(rows: &[EpisodeRow]) -> Result<String> {
             .or_default()
             .push(r);
     }
-    type Pick = fn(&crate::results::ObjectRegistrationRow) -> f64;
+    // The baselines are absent (None) in episodes that ran without them: a method is
+    // drawn only at the levels where some registration has it.
+    type Pick = fn(&crate::results::ObjectRegistrationRow) -> Option<f64>;
     let methods: [(&str, Pick, RGBColor); 4] = [
-        ("as acquired", |r| r.acquired, RGBColor(120, 120, 120)),
-        ("map (the model's)", |r| r.gpa, RGBColor(31, 119, 180)),
+        ("as acquired", |r| Some(r.acquired), RGBColor(120, 120, 120)),
+        ("map (the model's)", |r| Some(r.gpa), RGBColor(31, 119, 180)),
         ("p-ICP-GPA (paper)", |r| r.pgpa, RGBColor(255, 127, 14)),
         ("sequential ICP", |r| r.icp, RGBColor(44, 160, 44)),
     ];
@@ -279,10 +281,14 @@ fn registration_vs_level(rows: &[EpisodeRow]) -> Result<String> {
         .iter()
         .map(|(_, pick, _)| {
             by.iter()
-                .map(|(k, regs)| {
-                    let v: Vec<f64> = regs.iter().map(|r| 1e3 * pick(r)).collect();
+                .filter_map(|(k, regs)| {
+                    let v: Vec<f64> = regs
+                        .iter()
+                        .filter_map(|r| pick(r))
+                        .map(|e| 1e3 * e)
+                        .collect();
                     let (m, p95) = crate::results::quantiles(&v);
-                    (*k as f64 / 1000.0, m, p95)
+                    (!v.is_empty()).then_some((*k as f64 / 1000.0, m, p95))
                 })
                 .collect()
         })
@@ -316,6 +322,9 @@ fn registration_vs_level(rows: &[EpisodeRow]) -> Result<String> {
         .draw()
         .map_err(|e| invalid!("{e}"))?;
     for ((name, _, colour), line) in methods.iter().zip(&lines) {
+        if line.is_empty() {
+            continue;
+        }
         let colour = *colour;
         let median: Vec<(f64, f64)> = line.iter().map(|p| (p.0, p.1.min(y_max))).collect();
         let p95: Vec<(f64, f64)> = line.iter().map(|p| (p.0, p.2.min(y_max))).collect();

@@ -108,8 +108,10 @@ pub struct ObjectRegistrationRow {
     pub object: String,
     /// The model's registration (MAP): mean alignment error (m).
     pub gpa: f64,
-    /// Sequential-ICP mean alignment error (m).
-    pub icp: f64,
+    /// Sequential-ICP mean alignment error (m); `None` when the episode ran without the
+    /// baselines (`registration.baselines = false`).
+    #[serde(default)]
+    pub icp: Option<f64>,
     /// The model's registration failed.
     pub gpa_failed: bool,
     /// Sequential ICP failed.
@@ -120,9 +122,9 @@ pub struct ObjectRegistrationRow {
     /// Mean alignment error of the views as acquired (m).
     #[serde(default)]
     pub acquired: f64,
-    /// The paper's p-ICP-GPA: mean alignment error (m).
+    /// The paper's p-ICP-GPA: mean alignment error (m); `None` without the baselines.
     #[serde(default)]
-    pub pgpa: f64,
+    pub pgpa: Option<f64>,
     /// The paper's p-ICP-GPA failed.
     #[serde(default)]
     pub pgpa_failed: bool,
@@ -178,18 +180,19 @@ impl EpisodeRow {
             .iter()
             .filter(|o| o.truth == "object")
             .filter_map(|o| {
-                let (g, i) = (o.error_gpa.as_ref()?, o.error_icp.as_ref()?);
-                let (a, p) = (o.error_unregistered.as_ref()?, o.error_pgpa.as_ref()?);
+                // The baselines are absent when the episode skipped them.
+                let (g, a) = (o.error_gpa.as_ref()?, o.error_unregistered.as_ref()?);
+                let (i, p) = (o.error_icp.as_ref(), o.error_pgpa.as_ref());
                 Some(ObjectRegistrationRow {
                     object: o.name.clone(),
                     gpa: g.alignment,
-                    icp: i.alignment,
+                    icp: i.map(|i| i.alignment),
                     gpa_failed: g.failed,
-                    icp_failed: i.failed,
+                    icp_failed: i.is_some_and(|i| i.failed),
                     level,
                     acquired: a.alignment,
-                    pgpa: p.alignment,
-                    pgpa_failed: p.failed,
+                    pgpa: p.map(|p| p.alignment),
+                    pgpa_failed: p.is_some_and(|p| p.failed),
                     converged: g.converged,
                     f_score: o.quality.map_or(0.0, |q| q.f_score),
                     f_score_acquired: o.quality_unregistered.map_or(0.0, |q| q.f_score),
@@ -546,8 +549,8 @@ pub struct RegistrationLine {
     pub experiments: usize,
     /// p-ICP-GPA mean and standard deviation of the alignment error (m).
     pub gpa: (f64, f64),
-    /// Sequential ICP mean and standard deviation (m).
-    pub icp: (f64, f64),
+    /// Sequential ICP mean and standard deviation (m); `None` when no episode ran it.
+    pub icp: Option<(f64, f64)>,
     /// p-ICP-GPA failures.
     pub gpa_failures: usize,
     /// Sequential-ICP failures.
@@ -556,10 +559,10 @@ pub struct RegistrationLine {
     pub acquired_quantiles: (f64, f64),
     /// … of the model's registration (MAP).
     pub map_quantiles: (f64, f64),
-    /// … of the paper's p-ICP-GPA.
-    pub pgpa_quantiles: (f64, f64),
+    /// … of the paper's p-ICP-GPA (`None` when no episode ran the baselines).
+    pub pgpa_quantiles: Option<(f64, f64)>,
     /// … of sequential ICP.
-    pub icp_quantiles: (f64, f64),
+    pub icp_quantiles: Option<(f64, f64)>,
     /// The paper's p-ICP-GPA failures.
     pub pgpa_failures: usize,
     /// The model's registrations that did not converge.
@@ -663,9 +666,10 @@ pub fn registration_table(rows: &[EpisodeRow]) -> Vec<RegistrationLine> {
     by.into_iter()
         .map(|((level, object), v)| {
             let g: Vec<f64> = v.iter().map(|o| o.gpa).collect();
-            let i: Vec<f64> = v.iter().map(|o| o.icp).collect();
+            let i: Vec<f64> = v.iter().filter_map(|o| o.icp).collect();
             let a: Vec<f64> = v.iter().map(|o| o.acquired).collect();
-            let p: Vec<f64> = v.iter().map(|o| o.pgpa).collect();
+            let p: Vec<f64> = v.iter().filter_map(|o| o.pgpa).collect();
+            let ran = |x: &[f64]| (!x.is_empty()).then(|| quantiles(x));
             let median = |pick: fn(&ObjectRegistrationRow) -> f64| {
                 quantiles(&v.iter().map(|o| pick(o)).collect::<Vec<_>>()).0
             };
@@ -674,15 +678,15 @@ pub fn registration_table(rows: &[EpisodeRow]) -> Vec<RegistrationLine> {
                 level: level as f64 / 1000.0,
                 acquired_quantiles: quantiles(&a),
                 map_quantiles: quantiles(&g),
-                pgpa_quantiles: quantiles(&p),
-                icp_quantiles: quantiles(&i),
+                pgpa_quantiles: ran(&p),
+                icp_quantiles: ran(&i),
                 pgpa_failures: v.iter().filter(|o| o.pgpa_failed).count(),
                 unconverged: v.iter().filter(|o| !o.converged).count(),
                 worse_than_acquired: v.iter().filter(|o| o.gpa > o.acquired + 5e-4).count(),
                 object,
                 experiments: v.len(),
                 gpa: (mean(&g), std_dev(&g)),
-                icp: (mean(&i), std_dev(&i)),
+                icp: (!i.is_empty()).then(|| (mean(&i), std_dev(&i))),
                 gpa_failures: v.iter().filter(|o| o.gpa_failed).count(),
                 icp_failures: v.iter().filter(|o| o.icp_failed).count(),
             }
@@ -729,12 +733,12 @@ pub(crate) mod tests {
             registrations: vec![ObjectRegistrationRow {
                 object: "jug".into(),
                 gpa,
-                icp: 2.0 * gpa,
+                icp: Some(2.0 * gpa),
                 gpa_failed: false,
                 icp_failed: true,
                 level: 1.0,
                 acquired: 1.5 * gpa,
-                pgpa: 3.0 * gpa,
+                pgpa: Some(3.0 * gpa),
                 pgpa_failed: true,
                 converged: true,
                 f_score: coverage - 0.1,
@@ -805,5 +809,31 @@ pub(crate) mod tests {
             csv.lines()
                 .all(|l| l.ends_with("time_s") || l.ends_with("10.000"))
         );
+    }
+
+    #[test]
+    fn registration_table_without_the_baselines() {
+        // Episodes run with `registration.baselines = false` have no p-ICP-GPA or ICP
+        // figure: their registrations still make the table, the baselines show as absent.
+        let mut rows = [row(0, "2.0", 0.8, 0.01), row(1, "2.0", 0.6, 0.03)];
+        for r in &mut rows {
+            for o in &mut r.registrations {
+                (o.icp, o.pgpa, o.icp_failed, o.pgpa_failed) = (None, None, false, false);
+            }
+        }
+        let t = registration_table(&rows);
+        assert_eq!(t.len(), 1);
+        assert_eq!((t[0].experiments, t[0].icp_failures), (2, 0));
+        assert_eq!(
+            (t[0].icp, t[0].icp_quantiles, t[0].pgpa_quantiles),
+            (None, None, None)
+        );
+        assert_eq!(t[0].map_quantiles, (0.01, 0.03));
+        // One episode with the baselines, one without: the baselines over the one.
+        rows[1] = row(1, "2.0", 0.6, 0.03);
+        let t = registration_table(&rows);
+        assert_eq!(t[0].icp_quantiles, Some((0.06, 0.06)));
+        let p = t[0].pgpa_quantiles.expect("one episode ran p-ICP-GPA");
+        assert!((p.0 - 0.09).abs() < 1e-12 && (p.1 - 0.09).abs() < 1e-12);
     }
 }
