@@ -13,7 +13,6 @@ use nbv_core::cloud::io::{
 use nbv_core::occupancy::GridGeometry;
 use nbv_core::perception::{PhaseOne, PhaseOneConfig, SegmentationParams, phase_one};
 use nbv_scenes::schema::{Mapping, MidRangeSensor, Segmentation};
-use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -131,7 +130,7 @@ pub fn run(args: MapArgs) -> Result<()> {
     )
     .with_context(|| format!("writing {}", clusters_path.display()))?;
     let stats_path = args.output.join("stats.json");
-    let stats = stats_json(
+    let stats = nbv_sweep::map_stats::stats_json(
         &args.cloud,
         &cloud,
         origin_source,
@@ -172,14 +171,6 @@ fn default_config() -> Result<PhaseOneConfig> {
     config.occupancy = Mapping::default().occupancy_params();
     config.max_range = MidRangeSensor::default().range[1];
     Ok(config)
-}
-
-fn share(n: usize, total: usize) -> f64 {
-    if total == 0 {
-        0.0
-    } else {
-        n as f64 / total as f64
-    }
 }
 
 fn fmt_point(p: &Point3<f64>) -> String {
@@ -259,11 +250,11 @@ fn print_summary(
     );
     println!(
         "  occupied {:.1}% ({}), empty {:.1}% ({}), unknown {:.1}% ({})",
-        100.0 * share(s.grid.occupied, n),
+        100.0 * nbv_sweep::map_stats::share(s.grid.occupied, n),
         s.grid.occupied,
-        100.0 * share(s.grid.empty, n),
+        100.0 * nbv_sweep::map_stats::share(s.grid.empty, n),
         s.grid.empty,
-        100.0 * share(s.grid.unknown, n),
+        100.0 * nbv_sweep::map_stats::share(s.grid.unknown, n),
         s.grid.unknown
     );
     println!(
@@ -279,102 +270,4 @@ fn print_summary(
         100.0 * s.removed_unknown_share
     );
     println!("phase 1 took {elapsed:.2} s");
-}
-
-fn xyz(p: &Point3<f64>) -> Value {
-    json!([p.x, p.y, p.z])
-}
-
-fn stats_json(
-    path: &Path,
-    cloud: &PointCloud,
-    origin_source: &str,
-    scene: Option<&str>,
-    config: &PhaseOneConfig,
-    r: &PhaseOne,
-) -> Value {
-    let seg = &r.segmentation;
-    let c = &seg.counts;
-    let p = &config.segmentation;
-    let g = r.map.grid.geometry();
-    let s = r.map.reduced.stats();
-    let n = g.len();
-    let o = &config.occupancy;
-    json!({
-        "cloud": {
-            "path": path.display().to_string(),
-            "points": cloud.len(),
-            "origins": origin_source,
-        },
-        "scene": scene,
-        "segmentation": {
-            "params": {
-                "voxel": p.voxel,
-                "outlier_neighbours": p.outlier_neighbours,
-                "outlier_std": p.outlier_std,
-                "plane_distance": p.plane_distance,
-                "plane_iterations": p.plane_iterations,
-                "plane_max_tilt": p.plane_max_tilt,
-                "cluster_tolerance": p.cluster_tolerance,
-                "min_cluster_points": p.min_cluster_points,
-                "max_cluster_points": p.max_cluster_points,
-                "seed": p.seed,
-                "excluded_boxes": config.exclude.len(),
-            },
-            "counts": {
-                "input": c.input,
-                "in_region": c.in_region,
-                "after_voxel": c.after_voxel,
-                "after_outliers": c.after_outliers,
-                "table_inliers": c.table_inliers,
-                "above_table": c.above_table,
-                "clustered": c.clustered,
-                "small_components": c.small_components,
-                "large_components": c.large_components,
-            },
-            "table": seg.table.as_ref().map(|t| json!({
-                "normal": [t.normal.x, t.normal.y, t.normal.z],
-                "offset": t.offset,
-                "inliers": t.inliers.len(),
-                "rms": t.rms,
-            })),
-        },
-        "clusters": seg.clusters.iter().enumerate().map(|(j, k)| json!({
-            "id": j,
-            "points": k.len(),
-            "centroid": xyz(&k.centroid),
-            "min": xyz(&k.min),
-            "max": xyz(&k.max),
-        })).collect::<Vec<_>>(),
-        "grid": {
-            "dims": g.dims(),
-            "resolution": g.resolution(),
-            "min": xyz(&g.min()),
-            "max": xyz(&g.max()),
-            "voxels": n,
-            "hit_probability": o.hit_probability,
-            "clamp": [o.clamp_min, o.clamp_max],
-            "epsilon_o": o.occupied_epsilon,
-            "max_range": config.max_range,
-            "occupied": s.grid.occupied,
-            "empty": s.grid.empty,
-            "unknown": s.grid.unknown,
-            "occupied_share": share(s.grid.occupied, n),
-            "empty_share": share(s.grid.empty, n),
-            "unknown_share": share(s.grid.unknown, n),
-        },
-        "scan": {
-            "rays": r.map.scan.rays,
-            "occupied_updates": r.map.scan.occupied,
-            "free_updates": r.map.scan.free,
-            "truncated": r.map.scan.truncated,
-            "hits_outside": r.map.scan.hits_outside,
-        },
-        "reduced_map": {
-            "voxels": s.occupied + s.unknown_crust,
-            "occupied": s.occupied,
-            "unknown_crust": s.unknown_crust,
-            "removed_unknown_share": s.removed_unknown_share,
-        },
-    })
 }

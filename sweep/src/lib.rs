@@ -13,6 +13,7 @@
 //! - [`results`]: rows, CSV, aggregates, best settings, registration and robustness
 //!   tables; [`objectives`]: the view-objective comparison; [`gate`]: `--require` gates;
 //!   [`plots`]: SVG plots.
+//! - [`map_stats`]: `stats.json` of `nbv map` (phase 1 on a cloud file).
 //! - [`views`]: what `nbv views` lists — each object's next-best-view candidates,
 //!   planned and checked in the twin.
 //! - [`recording`] (feature `rerun`): `episode.rrd`, an episode for the Rerun viewer.
@@ -24,6 +25,7 @@ pub mod error;
 pub mod gate;
 pub mod grid;
 pub mod layout;
+pub mod map_stats;
 pub mod matching;
 pub mod objectives;
 pub mod pictures;
