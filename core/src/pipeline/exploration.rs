@@ -12,6 +12,7 @@ use super::{
     ObjectExploration, ObjectRegion, ObjectStop, PipelineError, StepTimes,
 };
 use crate::nbv::NextBestView;
+use crate::registration::MapPreparation;
 use crate::rig::Rig;
 
 /// Runs the method (or the baseline of `config.mode`) on a rig: the phase-1 sweep and
@@ -43,6 +44,7 @@ pub fn explore(
         config.nbv.objective,
     )?;
     let mut objects = Vec::new();
+    let mut preparations = Vec::new();
     let nbv = NextBestView::new(config.nbv, ep.rig.camera.spec())?;
     for (j, cluster) in segmentation.clusters.iter().enumerate() {
         let region =
@@ -77,6 +79,8 @@ pub fn explore(
             stop: object.stop,
         });
         let dropped = matches!(object.stop, ObjectStop::NotAnObject { .. });
+        // The views as prepared for the MAP registration, for the calibrated passes.
+        let mut prepared = None;
         if !dropped && object.views.iter().any(|v| !v.cloud.is_empty()) {
             let mut seconds = 0.0;
             let registered = timed(&mut seconds, || {
@@ -84,7 +88,10 @@ pub fn explore(
             });
             object.times.registration += seconds;
             match registered {
-                Ok(r) => object.registration = Some(r),
+                Ok((r, p)) => {
+                    object.registration = Some(r);
+                    prepared = Some(p);
+                }
                 Err(e) => object.registration_error = Some(e.to_string()),
             }
             ep.observer.event(&ExploreEvent::Registered {
@@ -93,9 +100,15 @@ pub fn explore(
             });
         }
         objects.push(object);
+        preparations.push(prepared);
     }
     let hand_eye = if config.calibrate_hand_eye {
-        self_calibrate(&ep, &mut objects, phase_report.workcell.as_ref())
+        self_calibrate(
+            &ep,
+            &mut objects,
+            &preparations,
+            phase_report.workcell.as_ref(),
+        )
     } else {
         None
     };
@@ -121,6 +134,7 @@ const CALIBRATION_SETTLED: f64 = 0.25;
 fn self_calibrate(
     ep: &Episode<'_, '_>,
     objects: &mut [ObjectExploration],
+    preparations: &[Option<MapPreparation>],
     workcell: Option<&crate::perception::WorkcellAlignment>,
 ) -> Option<HandEyeEstimate> {
     let config = ep.config;
@@ -131,10 +145,13 @@ fn self_calibrate(
     };
     let mut current = estimate(objects)?;
     for pass in 1..=CALIBRATION_PASSES {
-        for object in objects.iter_mut() {
+        for (object, prepared) in objects.iter_mut().zip(preparations) {
+            let Some(prepared) = prepared else {
+                continue;
+            };
             let mut seconds = 0.0;
             let outcome = timed(&mut seconds, || {
-                register_calibrated(object, config, workcell, &current, robot, &frame)
+                register_calibrated(object, prepared, config, workcell, &current, robot, &frame)
             });
             object.times.registration += seconds;
             if let Err(e) = outcome {

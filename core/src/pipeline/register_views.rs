@@ -12,8 +12,8 @@ use crate::kinematics::Robot;
 use crate::math::Pose;
 use crate::perception::WorkcellAlignment;
 use crate::registration::{
-    Method, MethodReport, PosePrior, Registration, RegistrationError, RegistrationParams,
-    ViewModel, register, register_with_models,
+    MapPreparation, Method, MethodReport, PosePrior, Registration, RegistrationError,
+    RegistrationParams, ViewModel, register, register_prepared,
 };
 
 /// Evenly keeps at most `n` points of `cloud` (all columns); 0 keeps all.
@@ -73,16 +73,19 @@ fn map_accepted(map: &Registration) -> bool {
 
 /// Registers the cluster (reference) and the views with the MAP registration (the
 /// model's) and, when the configuration asks for the baselines, the paper's p-ICP-GPA and
-/// sequential ICP, from the same input.
+/// sequential ICP, from the same input. Also returns the views as prepared for the MAP
+/// registration, for [`register_calibrated`].
 pub(super) fn register_object(
     object: &ObjectExploration,
     config: &ExploreConfig,
     workcell: Option<&WorkcellAlignment>,
-) -> Result<ObjectRegistration, RegistrationError> {
+) -> Result<(ObjectRegistration, MapPreparation), RegistrationError> {
     let views = registration_views(object, config);
     let initial = vec![Pose::identity(); views.len()];
     let models = uncertainty_of(config, workcell).view_models(&views, config.frames_per_view);
-    let map = register_with_models(&views, &initial, &models, &params(config, Method::Map))?;
+    let map_params = params(config, Method::Map);
+    let prepared = MapPreparation::new(&views, &models, &map_params)?;
+    let map = register_prepared(&prepared, &views, &initial, &models, &map_params)?;
     let (gpa, icp) = if config.registration_baselines {
         let icp_params = params(
             config,
@@ -102,7 +105,7 @@ pub(super) fn register_object(
             r.converged && within_correction(&views, &r.poses, config.max_correction)
         })
     };
-    Ok(ObjectRegistration {
+    let registration = ObjectRegistration {
         models,
         map_accepted: map_accepted(&map),
         map_initial: initial,
@@ -113,15 +116,19 @@ pub(super) fn register_object(
         map,
         gpa,
         icp,
-    })
+    };
+    Ok((registration, prepared))
 }
 
 /// The MAP registration of `object` again, every camera view starting from and held
 /// towards its self-calibrated pose (`calibration` applied at the view's joints), its
 /// prior σ only the standstill's noise, the laser anchor's and the calibration's own. It
 /// replaces the object's MAP registration when it is accepted; `Ok(false)` leaves it.
+/// `prepared` is the views' preparation that [`register_object`] returned (the views and
+/// their noise are the same; only the priors and the starting poses change).
 pub(super) fn register_calibrated(
     object: &mut ObjectExploration,
+    prepared: &MapPreparation,
     config: &ExploreConfig,
     workcell: Option<&WorkcellAlignment>,
     calibration: &HandEyeEstimate,
@@ -152,7 +159,13 @@ pub(super) fn register_calibrated(
     }
     let models: Vec<ViewModel> =
         uncertainty.view_models_with(views, config.frames_per_view, |k| own[k]);
-    let map = register_with_models(views, &initial, &models, &params(config, Method::Map))?;
+    let map = register_prepared(
+        prepared,
+        views,
+        &initial,
+        &models,
+        &params(config, Method::Map),
+    )?;
     if !map_accepted(&map) {
         return Ok(false);
     }

@@ -104,6 +104,10 @@ pub enum RegistrationError {
         /// Models given.
         models: usize,
     },
+    /// A [`MapPreparation`](super::MapPreparation) was made from other views, other
+    /// noise or other surfel parameters than those it is used with.
+    #[error("the MAP preparation does not match the views: {0}")]
+    PreparationMismatch(String),
     /// A view model has a non-positive or non-finite σ.
     #[error("view {0}: the noise σ and the prior σ must be finite and > 0 (exponent >= 0)")]
     InvalidViewModel(usize),

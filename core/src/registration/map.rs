@@ -30,6 +30,7 @@ use rayon::prelude::*;
 use std::sync::Mutex;
 
 use super::map_correspondences::PairNearest;
+use super::map_preparation::MapPreparation;
 use super::map_terms::{self, DataTerm, Kernel, Pair};
 use super::map_view::MapView;
 use super::{
@@ -51,7 +52,7 @@ const SMALL_STEP_LAMBDA: f64 = 1e-2;
 
 /// The problem, fixed for a run.
 struct Problem<'a> {
-    views: Vec<MapView>,
+    views: &'a [MapView],
     pairs: Vec<Pair>,
     /// Each pair's correspondences, kept between evaluations.
     nearest: Mutex<Vec<PairNearest>>,
@@ -72,18 +73,14 @@ struct State {
 
 /// Runs the MAP registration on checked input with one [`ViewModel`] per view.
 pub(crate) fn run(
+    prepared: &MapPreparation,
     clouds: &[PointCloud],
     initial: &[Pose],
     models: &[ViewModel],
     params: &RegistrationParams,
 ) -> Result<Registration, RegistrationError> {
     let map = &params.map;
-    let views: Vec<MapView> = clouds
-        .par_iter()
-        .zip(models)
-        .enumerate()
-        .map(|(v, (c, m))| MapView::new(v, c, &m.noise, map.surface_neighbours))
-        .collect::<Result<_, _>>()?;
+    let views: &[MapView] = &prepared.views;
     let origins: Vec<Point3<f64>> = views
         .iter()
         .zip(initial)
@@ -98,7 +95,7 @@ pub(crate) fn run(
     };
     let reference = params.reference;
     let pairs = select_pairs(
-        &views,
+        views,
         initial,
         reference,
         &kernel,
@@ -107,7 +104,7 @@ pub(crate) fn run(
     );
     let nearest = pairs
         .iter()
-        .map(|pair| PairNearest::new(&views, pair, kernel.max_distance))
+        .map(|pair| PairNearest::new(views, pair, kernel.max_distance))
         .collect();
     let mut problem = Problem {
         nearest: Mutex::new(nearest),
@@ -289,7 +286,7 @@ impl Problem<'_> {
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
         map_terms::evaluate(
-            &self.views,
+            self.views,
             &self.pairs,
             &mut nearest,
             &poses,

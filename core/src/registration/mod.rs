@@ -50,6 +50,7 @@ mod icp;
 mod independent_sets;
 mod map;
 mod map_correspondences;
+mod map_preparation;
 mod map_terms;
 mod map_view;
 mod merge;
@@ -66,6 +67,7 @@ mod view_tree;
 
 pub use error::RegistrationError;
 pub use icp::align;
+pub use map_preparation::MapPreparation;
 pub use normals::estimate_normals;
 pub use params::{IcpParams, MapParams, Method, RegistrationParams, SetRule};
 pub use procrustes::rigid_procrustes;
@@ -174,6 +176,45 @@ pub fn register_with_models(
 ) -> Result<Registration, RegistrationError> {
     params.validate()?;
     view_tree::check_views(views, initial_poses, params.reference)?;
+    check_models(views, models)?;
+    match params.method {
+        Method::Map => {
+            let prepared = MapPreparation::new(views, models, params)?;
+            map::run(&prepared, views, initial_poses, models, params)
+        }
+        Method::Gpa => gpa::run(views, initial_poses, params),
+        Method::SequentialIcp { point_to_plane } => {
+            sequential_icp::run(views, initial_poses, params, point_to_plane)
+        }
+    }
+}
+
+/// The MAP registration ([`Method::Map`]) of `views` from a [`MapPreparation`] of them:
+/// the result of [`register_with_models`] without preparing the views again. Errors with
+/// [`RegistrationError::PreparationMismatch`] when `prepared` was made from other views,
+/// noise or surfel size, or `params.method` is not [`Method::Map`]; otherwise checks its
+/// input as [`register_with_models`] does.
+pub fn register_prepared(
+    prepared: &MapPreparation,
+    views: &[PointCloud],
+    initial_poses: &[Pose],
+    models: &[ViewModel],
+    params: &RegistrationParams,
+) -> Result<Registration, RegistrationError> {
+    params.validate()?;
+    view_tree::check_views(views, initial_poses, params.reference)?;
+    check_models(views, models)?;
+    if params.method != Method::Map {
+        return Err(RegistrationError::PreparationMismatch(
+            "a MAP preparation registers with method map only".into(),
+        ));
+    }
+    prepared.check_matches(views, models, params)?;
+    map::run(prepared, views, initial_poses, models, params)
+}
+
+/// One valid [`ViewModel`] per view.
+fn check_models(views: &[PointCloud], models: &[ViewModel]) -> Result<(), RegistrationError> {
     if models.len() != views.len() {
         return Err(RegistrationError::ModelCountMismatch {
             views: views.len(),
@@ -186,13 +227,7 @@ pub fn register_with_models(
     {
         return Err(RegistrationError::InvalidViewModel(view));
     }
-    match params.method {
-        Method::Map => map::run(views, initial_poses, models, params),
-        Method::Gpa => gpa::run(views, initial_poses, params),
-        Method::SequentialIcp { point_to_plane } => {
-            sequential_icp::run(views, initial_poses, params, point_to_plane)
-        }
-    }
+    Ok(())
 }
 
 /// Mean squared residual (m²) below which a registration counts as exact: relative

@@ -1,0 +1,187 @@
+//! [`MapPreparation`]: an object's views prepared once for the MAP registration — each
+//! view's k-d tree, viewing rays, range σ and surface elements ([`MapView`]) — and reused
+//! by later runs on the same views with the same noise. The pipeline registers every
+//! object again from new priors after its self-calibration; only the priors and the
+//! starting poses change, so the preparation is made once per object, and a run from a
+//! preparation gives exactly the result of a run that prepares afresh.
+
+use rayon::prelude::*;
+
+use super::map_view::MapView;
+use super::{RangeNoise, RegistrationError, RegistrationParams, ViewModel};
+use crate::cloud::PointCloud;
+use crate::math::Pose;
+
+/// Views prepared for [`register_prepared`](super::register_prepared).
+///
+/// ```
+/// use nbv_core::cloud::PointCloud;
+/// use nbv_core::registration::{
+///     MapPreparation, Method, RangeNoise, RegistrationParams, ViewModel, register_prepared,
+///     register_with_models,
+/// };
+/// use nalgebra::{Isometry3, Point3, Vector3};
+/// let surface = |i: usize, j: usize| {
+///     let (x, y) = (i as f64 * 0.004, j as f64 * 0.004);
+///     Point3::new(x, y, 0.5 + 0.01 * (110.0 * x).sin() * (90.0 * y).cos())
+/// };
+/// let view = |cols: std::ops::Range<usize>| {
+///     PointCloud::from_points(cols.flat_map(|i| (0..25).map(move |j| surface(i, j))).collect())
+/// };
+/// let views = [view(0..25), view(5..30)];
+/// let initial = [Isometry3::identity(), Isometry3::translation(0.002, -0.001, 0.0)];
+/// let models = [ViewModel { noise: RangeNoise::constant(0.0005), prior: None }; 2];
+/// let params = RegistrationParams { method: Method::Map, max_correspondence_distance: 0.01,
+///                                   ..Default::default() };
+/// let prepared = MapPreparation::new(&views, &models, &params).unwrap();
+/// let once = register_prepared(&prepared, &views, &initial, &models, &params).unwrap();
+/// let afresh = register_with_models(&views, &initial, &models, &params).unwrap();
+/// assert_eq!(once.poses, afresh.poses);
+/// ```
+pub struct MapPreparation {
+    pub(crate) views: Vec<MapView>,
+    noises: Vec<RangeNoise>,
+    surface_neighbours: usize,
+}
+
+impl std::fmt::Debug for MapPreparation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("MapPreparation")
+            .field("views", &self.views.len())
+            .field("surface_neighbours", &self.surface_neighbours)
+            .finish_non_exhaustive()
+    }
+}
+
+impl MapPreparation {
+    /// Prepares `clouds` (each in its own frame) with their models' range noise and the
+    /// surfel size of `params.map`. The clouds are checked as every registration checks
+    /// its input.
+    pub fn new(
+        clouds: &[PointCloud],
+        models: &[ViewModel],
+        params: &RegistrationParams,
+    ) -> Result<Self, RegistrationError> {
+        params.validate()?;
+        let poses = vec![Pose::identity(); clouds.len()];
+        super::view_tree::check_views(clouds, &poses, params.reference)?;
+        super::check_models(clouds, models)?;
+        let k = params.map.surface_neighbours;
+        let views = clouds
+            .par_iter()
+            .zip(models)
+            .enumerate()
+            .map(|(v, (c, m))| MapView::new(v, c, &m.noise, k))
+            .collect::<Result<_, _>>()?;
+        Ok(Self {
+            views,
+            noises: models.iter().map(|m| m.noise).collect(),
+            surface_neighbours: k,
+        })
+    }
+
+    /// Checks that the preparation was made from `clouds` (their points and sensor
+    /// origins), the models' noise and `params`' surfel size.
+    pub(crate) fn check_matches(
+        &self,
+        clouds: &[PointCloud],
+        models: &[ViewModel],
+        params: &RegistrationParams,
+    ) -> Result<(), RegistrationError> {
+        let mismatch = |what: String| Err(RegistrationError::PreparationMismatch(what));
+        if self.views.len() != clouds.len() {
+            return mismatch(format!(
+                "{} views prepared, {} given",
+                self.views.len(),
+                clouds.len()
+            ));
+        }
+        if self.surface_neighbours != params.map.surface_neighbours {
+            return mismatch("another map.surface_neighbours".into());
+        }
+        for (v, ((view, cloud), (noise, model))) in self
+            .views
+            .iter()
+            .zip(clouds)
+            .zip(self.noises.iter().zip(models))
+            .enumerate()
+        {
+            let centre = cloud
+                .origin_centroid()
+                .unwrap_or_else(|| view.tree.centroid());
+            if view.tree.points() != cloud.points.as_slice() || view.centre != centre {
+                return mismatch(format!("view {v} has other points or sensor origins"));
+            }
+            if *noise != model.noise {
+                return mismatch(format!("view {v} has another range noise"));
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::registration::{Method, register_prepared};
+    use nalgebra::Point3;
+
+    fn views() -> Vec<PointCloud> {
+        let sheet = |dx: f64| {
+            PointCloud::from_points(
+                (0..400)
+                    .map(|i| {
+                        let (x, y) = ((i % 20) as f64 * 0.004 + dx, (i / 20) as f64 * 0.004);
+                        Point3::new(x, y, 0.01 * (60.0 * x).sin())
+                    })
+                    .collect(),
+            )
+        };
+        vec![sheet(0.0), sheet(0.02)]
+    }
+
+    #[test]
+    fn refuses_other_views_noise_or_method() {
+        let views = views();
+        let models = [ViewModel {
+            noise: RangeNoise::constant(0.0005),
+            prior: None,
+        }; 2];
+        let params = RegistrationParams {
+            method: Method::Map,
+            max_correspondence_distance: 0.01,
+            ..Default::default()
+        };
+        let prepared = MapPreparation::new(&views, &models, &params).unwrap();
+        let initial = [Pose::identity(); 2];
+        assert!(register_prepared(&prepared, &views, &initial, &models, &params).is_ok());
+        let mismatch = |r: Result<_, RegistrationError>| {
+            matches!(r, Err(RegistrationError::PreparationMismatch(_)))
+        };
+        // Other points.
+        let mut moved = views.clone();
+        moved[1].points[7].x += 1e-4;
+        assert!(mismatch(register_prepared(
+            &prepared, &moved, &initial, &models, &params
+        )));
+        // Other noise.
+        let mut noisier = models;
+        noisier[1].noise = RangeNoise::constant(0.001);
+        assert!(mismatch(register_prepared(
+            &prepared, &views, &initial, &noisier, &params
+        )));
+        // Another surfel size, another method.
+        let mut other = params.clone();
+        other.map.surface_neighbours += 1;
+        assert!(mismatch(register_prepared(
+            &prepared, &views, &initial, &models, &other
+        )));
+        other = RegistrationParams {
+            method: Method::Gpa,
+            ..params
+        };
+        assert!(mismatch(register_prepared(
+            &prepared, &views, &initial, &models, &other
+        )));
+    }
+}
