@@ -5,6 +5,7 @@ use crate::error::Result;
 use crate::matching::{cluster_truth, true_object};
 use nbv_core::evaluation::{
     ModelQuality, alignment_error, model_quality, point_error, quality_samples, surface_coverage,
+    surface_coverage_curve,
 };
 use nbv_core::math::Pose;
 use nbv_core::pipeline::{Exploration, ExploreConfig, ObjectStop, StepTimes};
@@ -426,10 +427,21 @@ pub fn evaluate(
         };
         let unregistered = object.unregistered_model();
         let coverage_by_view = match truth {
-            Some(_) => coverage_after_each_view(object)
+            Some(i) => {
+                let parts = parts_by_view(object);
+                let parts: Vec<&nbv_core::cloud::PointCloud> = parts.iter().collect();
+                surface_coverage_curve(
+                    &meshes[i],
+                    &parts,
+                    COVERAGE_TOLERANCE,
+                    scene.table.top() + 0.005,
+                    COVERAGE_SAMPLES,
+                    scene.seed,
+                )
                 .iter()
-                .filter_map(&coverage_of)
-                .collect(),
+                .map(nbv_core::evaluation::Coverage::share)
+                .collect()
+            }
             None => Vec::new(),
         };
         objects.push(ObjectEntry {
@@ -585,43 +597,46 @@ pub fn evaluate(
     })
 }
 
-/// The object's model after 0, 1, …, n short-range views (see
-/// [`ObjectEntry::coverage_by_view`]): its registered views up to the k-th taken view,
-/// through the MAP poses when accepted (as [`ObjectExploration::model`]).
+/// What each short-range view adds to the object's model (see
+/// [`ObjectEntry::coverage_by_view`]): the phase-1 cluster, then per taken view its
+/// registered cloud (empty for a view that saw nothing), through the MAP poses when
+/// accepted (as [`ObjectExploration::model`]); the model after `k` views is the union of
+/// the first `k + 1` parts.
 ///
 /// [`ObjectExploration::model`]: nbv_core::pipeline::ObjectExploration::model
-fn coverage_after_each_view(
+fn parts_by_view(
     object: &nbv_core::pipeline::ObjectExploration,
 ) -> Vec<nbv_core::cloud::PointCloud> {
+    let empty = nbv_core::cloud::PointCloud::default;
     let Some(r) = &object.registration else {
-        return vec![object.model(); object.views.len() + 1];
+        let mut parts = vec![object.model()];
+        parts.resize_with(object.views.len() + 1, empty);
+        return parts;
     };
-    let pose = |k: usize| {
-        if r.map_accepted {
+    let part = |k: usize| {
+        let Some(v) = r.views.get(k) else {
+            return empty();
+        };
+        let pose = if r.map_accepted {
             r.map.poses.get(k).copied().unwrap_or_else(Pose::identity)
         } else {
             Pose::identity()
-        }
+        };
+        let mut v = v.clone();
+        v.transform(&pose);
+        v
     };
-    let mut model = nbv_core::cloud::PointCloud::default();
-    let add = |k: usize, model: &mut nbv_core::cloud::PointCloud| {
-        if let Some(v) = r.views.get(k) {
-            let mut v = v.clone();
-            v.transform(&pose(k));
-            model.extend(&v);
-        }
-    };
-    add(0, &mut model);
-    let mut out = vec![model.clone()];
+    let mut parts = vec![part(0)];
     let mut registered = 0;
     for v in &object.views {
-        if !v.cloud.is_empty() {
+        if v.cloud.is_empty() {
+            parts.push(empty());
+        } else {
             registered += 1;
-            add(registered, &mut model);
+            parts.push(part(registered));
         }
-        out.push(model.clone());
     }
-    out
+    parts
 }
 
 fn view_entry(v: &nbv_core::pipeline::AcquiredView) -> ViewEntry {

@@ -16,4 +16,4 @@ pub use alignment_error::alignment_error;
 pub use model_precision::model_precision;
 pub use model_quality::{ModelQuality, f_score, model_quality, quality_samples};
 pub use point_error::{PointError, point_error};
-pub use surface_coverage::{Coverage, sample_surface, surface_coverage};
+pub use surface_coverage::{Coverage, sample_surface, surface_coverage, surface_coverage_curve};

@@ -1,5 +1,7 @@
 //! [`surface_coverage`]: the share of a true surface (above a floor) that lies within a
-//! tolerance of a model cloud, from seeded area-weighted samples of the surface.
+//! tolerance of a model cloud, from seeded area-weighted samples of the surface;
+//! [`surface_coverage_curve`]: the same for a model growing part by part (an object's
+//! coverage after each view).
 
 use crate::cloud::{PointCloud, near_mask};
 use crate::mesh::TriMesh;
@@ -97,6 +99,56 @@ pub fn surface_coverage(
         samples: points.len(),
         covered: count_near(&model.points, &points, tolerance),
     }
+}
+
+/// [`surface_coverage`] of the models `parts[0]`, `parts[0] ∪ parts[1]`, …: element `k`
+/// is the coverage by the first `k + 1` parts, exactly as `surface_coverage` of their
+/// union gives it. A sample is covered by a union when some part has a point within the
+/// tolerance, so the surface is sampled once and each part is searched only for the
+/// samples the earlier parts left uncovered.
+///
+/// ```
+/// use nbv_core::cloud::PointCloud;
+/// use nbv_core::evaluation::{sample_surface, surface_coverage, surface_coverage_curve};
+/// use nbv_core::mesh::TriMesh;
+/// let cube = TriMesh::cuboid([0.5, 0.5, 0.5]);
+/// let dense = sample_surface(&cube, 20_000, 9);
+/// let top = PointCloud::from_points(dense.iter().copied().filter(|p| p.z > 0.499).collect());
+/// let side = PointCloud::from_points(dense.iter().copied().filter(|p| p.x > 0.499).collect());
+/// let curve = surface_coverage_curve(&cube, &[&top, &PointCloud::default(), &side], 0.02, -0.499, 5000, 3);
+/// let mut both = top.clone();
+/// both.extend(&side);
+/// assert_eq!(curve[0], surface_coverage(&cube, &top, 0.02, -0.499, 5000, 3));
+/// assert_eq!(curve[1], curve[0]); // an empty part adds nothing
+/// assert_eq!(curve[2], surface_coverage(&cube, &both, 0.02, -0.499, 5000, 3));
+/// ```
+pub fn surface_coverage_curve(
+    surface: &TriMesh,
+    parts: &[&PointCloud],
+    tolerance: f64,
+    floor: f64,
+    samples: usize,
+    seed: u64,
+) -> Vec<Coverage> {
+    let mut uncovered: Vec<Point3<f64>> = sample_surface(surface, samples, seed)
+        .into_iter()
+        .filter(|p| p.z > floor)
+        .collect();
+    let total = uncovered.len();
+    parts
+        .iter()
+        .map(|part| {
+            if !part.is_empty() && !uncovered.is_empty() {
+                let near = near_mask(&part.points, &uncovered, tolerance);
+                let mut near = near.into_iter();
+                uncovered.retain(|_| !near.next().unwrap_or(false));
+            }
+            Coverage {
+                samples: total,
+                covered: total - uncovered.len(),
+            }
+        })
+        .collect()
 }
 
 /// How many of `queries` lie within `tolerance` of a finite point of `reference` (0 when
