@@ -62,10 +62,8 @@ impl MapPreparation {
         models: &[ViewModel],
         params: &RegistrationParams,
     ) -> Result<Self, RegistrationError> {
-        params.validate()?;
         let poses = vec![Pose::identity(); clouds.len()];
-        super::view_tree::check_views(clouds, &poses, params.reference)?;
-        super::check_models(clouds, models)?;
+        super::check_input(clouds, &poses, models, params)?;
         let k = params.map.surface_neighbours;
         let views = clouds
             .par_iter()

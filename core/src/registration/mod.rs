@@ -174,9 +174,7 @@ pub fn register_with_models(
     models: &[ViewModel],
     params: &RegistrationParams,
 ) -> Result<Registration, RegistrationError> {
-    params.validate()?;
-    view_tree::check_views(views, initial_poses, params.reference)?;
-    check_models(views, models)?;
+    check_input(views, initial_poses, models, params)?;
     match params.method {
         Method::Map => {
             let prepared = MapPreparation::new(views, models, params)?;
@@ -201,9 +199,7 @@ pub fn register_prepared(
     models: &[ViewModel],
     params: &RegistrationParams,
 ) -> Result<Registration, RegistrationError> {
-    params.validate()?;
-    view_tree::check_views(views, initial_poses, params.reference)?;
-    check_models(views, models)?;
+    check_input(views, initial_poses, models, params)?;
     if params.method != Method::Map {
         return Err(RegistrationError::PreparationMismatch(
             "a MAP preparation registers with method map only".into(),
@@ -211,6 +207,19 @@ pub fn register_prepared(
     }
     prepared.check_matches(views, models, params)?;
     map::run(prepared, views, initial_poses, models, params)
+}
+
+/// The checks every registration runs on its input: valid parameters, the views
+/// ([`view_tree::check_views`]) and one valid [`ViewModel`] per view.
+fn check_input(
+    views: &[PointCloud],
+    initial_poses: &[Pose],
+    models: &[ViewModel],
+    params: &RegistrationParams,
+) -> Result<(), RegistrationError> {
+    params.validate()?;
+    view_tree::check_views(views, initial_poses, params.reference)?;
+    check_models(views, models)
 }
 
 /// One valid [`ViewModel`] per view.
