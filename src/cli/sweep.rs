@@ -163,8 +163,8 @@ fn summary_text(s: &Summary, out: &Path, plots: &[String]) -> String {
     let a = &s.aggregate;
     let mut t = format!(
         "{} of {} episode(s): F-score min {:.1} mean {:.1} (as acquired {:.1}), coverage min {:.1}% mean {:.1}%, {} view(s), {} collision(s), \
-         registration error (the model's) mean {:.1} mm (max {:.1}), ICP {:.1} mm, {} failed registration(s); \
-         {:.0} episodes/hour\n",
+         registration error (the model's) mean {:.1} mm (max {:.1}), ICP {}, {} failed registration(s); \
+         {:.0} episodes/hour (one job)\n",
         s.episodes_finished,
         s.episodes_expected,
         100.0 * a.f_score,
@@ -176,7 +176,12 @@ fn summary_text(s: &Summary, out: &Path, plots: &[String]) -> String {
         a.collisions,
         1e3 * a.error_gpa_mean,
         1e3 * a.error_gpa,
-        1e3 * a.error_icp_mean,
+        // Sweeps without the baselines have no ICP figure.
+        if s.registration.iter().any(|l| l.icp.is_some()) {
+            format!("{:.1} mm", 1e3 * a.error_icp_mean)
+        } else {
+            "-".to_string()
+        },
         a.failed_registrations,
         a.episodes_per_hour
     );
