@@ -11,7 +11,8 @@
 //! The code's "void ray" term (2 ln 2 for a ray without an end point) never fires there,
 //! and has no counterpart here: every ray has its voxels.
 
-use super::{RayVoxel, Visibility};
+use super::RayVoxel;
+use super::visibility_probability::visible_entropy;
 
 /// One ray's OA term.
 ///
@@ -22,14 +23,7 @@ use super::{RayVoxel, Visibility};
 /// assert!((occlusion_aware_ray(&ray) - 1.5 * std::f64::consts::LN_2).abs() < 1e-15);
 /// ```
 pub fn occlusion_aware_ray(ray: &[RayVoxel]) -> f64 {
-    let mut visibility = Visibility::default();
-    let mut sum = 0.0;
-    for v in ray {
-        let p = v.probability();
-        sum += visibility.get() * super::entropy(p);
-        visibility.pass(p);
-    }
-    sum
+    visible_entropy(ray, |_| true)
 }
 
 #[cfg(test)]

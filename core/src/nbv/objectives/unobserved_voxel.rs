@@ -8,7 +8,8 @@
 //! with the visibility still updated at every voxel (free and occupied ones lower it) —
 //! the papers' `Π (1 − p_i)`, not the reference code's `Π p_i`. Unknown: 0.2 ≤ p ≤ 0.8.
 
-use super::{RayVoxel, Visibility, VoxelClass};
+use super::visibility_probability::visible_entropy;
+use super::{RayVoxel, VoxelClass};
 
 /// One ray's UV term.
 ///
@@ -19,16 +20,7 @@ use super::{RayVoxel, Visibility, VoxelClass};
 /// assert!((unobserved_voxel_ray(&ray) - 0.9 * std::f64::consts::LN_2).abs() < 1e-6);
 /// ```
 pub fn unobserved_voxel_ray(ray: &[RayVoxel]) -> f64 {
-    let mut visibility = Visibility::default();
-    let mut sum = 0.0;
-    for v in ray {
-        let p = v.probability();
-        if v.class() == VoxelClass::Unknown {
-            sum += visibility.get() * super::entropy(p);
-        }
-        visibility.pass(p);
-    }
-    sum
+    visible_entropy(ray, |v| v.class() == VoxelClass::Unknown)
 }
 
 #[cfg(test)]
