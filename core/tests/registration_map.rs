@@ -129,6 +129,66 @@ fn a_known_offset_returns_to_truth_within_the_noise_bound() {
     assert_eq!(r.poses[0], initial[0]);
 }
 
+/// Points of a bumpy upright cylinder (radius 4 cm, 10 cm tall) between azimuths `from`
+/// and `to` (degrees, 0 facing −y), every ~3 mm.
+fn cylinder(from: f64, to: f64) -> Vec<Point3<f64>> {
+    let (radius, height, step) = (0.04, 0.1, 0.003);
+    let arc = (to - from).to_radians() * radius;
+    let (na, nz) = ((arc / step) as usize, (height / step) as usize);
+    (0..=na)
+        .flat_map(|i| (0..=nz).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            let a = (from + (to - from) * i as f64 / na as f64).to_radians();
+            let z = height * j as f64 / nz as f64;
+            let r = radius + 0.003 * (5.0 * a).sin() * (40.0 * z).cos();
+            Point3::new(r * a.sin(), -r * a.cos(), z)
+        })
+        .collect()
+}
+
+/// A camera view that sees around an object past the edge of what the reference saw
+/// (the reference: the front of a bumpy cylinder, ±40°; the camera: 0–110°), noise-free,
+/// started at the truth, without a prior: the surface the reference did not see must not
+/// drag the view towards the reference's edge (without boundary rejection it moved it
+/// 7.6 mm here).
+#[test]
+fn a_view_that_sees_past_the_references_edge_stays_at_the_truth() {
+    let reference = view(
+        cylinder(-40.0, 40.0),
+        Point3::new(0.0, -0.8, 0.5),
+        0.0,
+        1,
+        &Pose::identity(),
+    );
+    let camera = view(
+        cylinder(0.0, 110.0),
+        Point3::new(0.3, -0.2, 0.3),
+        0.0,
+        2,
+        &Pose::identity(),
+    );
+    let views = vec![reference, camera];
+    let free = vec![
+        ViewModel {
+            noise: RangeNoise::constant(0.0005),
+            prior: None,
+        },
+        ViewModel {
+            noise: RangeNoise::constant(0.004),
+            prior: None,
+        },
+    ];
+    let initial = vec![Pose::identity(); 2];
+    let r = register_with_models(&views, &initial, &free, &params()).unwrap();
+    let end = alignment_error(&views[1..], &r.poses[1..]).mean;
+    assert!(map_report(&r).views[1].inliers > 500);
+    assert!(
+        end < 5e-5,
+        "the camera view moved {:.3} mm off the truth",
+        end * 1e3
+    );
+}
+
 #[test]
 fn a_view_without_overlap_keeps_its_prior_and_is_flagged() {
     let error = Pose::translation(0.003, 0.0, 0.0);

@@ -11,9 +11,15 @@
 //! surfel has a normal `n` (point-to-plane), else `(s/2)²·I` for the target's point
 //! spacing `s` (point-to-point). The cost of a correspondence is the truncated Cauchy
 //! kernel `ρ(m²) = c²/2·ln(1 + m²/c²)` of its Mahalanobis distance `m² = eᵀC⁻¹e`, capped at
-//! `m = cap`; a source point without a target point within `d_max` costs the cap. The
-//! whole data term is therefore a function of the poses alone, which is what lets the
-//! solver reject any step that raises it.
+//! `m = cap`; a source point without a target point within `d_max` costs the cap. A source
+//! point beyond the edge of what the target saw (its nearest target point lies on the
+//! target's boundary, and the point lies outside it: see [`MapView`]) pulls nothing and
+//! costs what a true match is expected to cost (`ρ` at `m²` = the residual's constrained
+//! dimensions), so a view gains nothing by sliding points off or onto the edge: matched
+//! to the edge, such points would drag their view towards it (on a box's unseen faces,
+//! several millimetres from noise-free views started at the truth). The whole data term
+//! is a function of the poses alone, which is what lets the solver reject any step that
+//! raises it.
 //!
 //! Work is split into fixed chunks of (pair, source points), summed in chunk order: the
 //! result is identical at any thread count.
@@ -259,6 +265,18 @@ fn chunk_sums(
             continue;
         };
         let surfel = &dst.surfels[j];
+        let beyond = surfel.boundary.is_some_and(|out| {
+            let offset = pt.inverse_transform_point(&(ps * local)) - dst.tree.points()[j];
+            offset.dot(&out) > 0.0
+        });
+        if beyond {
+            // Beyond the edge of what the target saw (see `MapView`): no pull, and the
+            // cost a true match is expected to have (m² = its constrained dimensions), so
+            // sliding a point off the edge neither gains nor loses.
+            let dims = if surfel.normal.is_some() { 1.0 } else { 3.0 };
+            s.cost += pair.weight * kernel.cost(dims).0;
+            continue;
+        }
         let x = ps * local;
         let y = pt * surfel.position;
         if let Some(n) = surfel.normal.filter(|_| dst.rays[j] != Vector3::zeros()) {

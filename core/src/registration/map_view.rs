@@ -8,6 +8,15 @@
 //! `λ₀` across is about `√(λ₀ / (k·λ₁))` rad. Laser views at their 2 mm noise pass this
 //! on most of an object's surface; camera views at centimetre noise mostly do not, and
 //! their residuals stay point-to-point with the noise along the rays.
+//!
+//! A surfel also says whether its point lies on the view's boundary (the edge of what the
+//! sensor saw): there the neighbours sit on one side, so their mean is off the point, in
+//! the tangent plane, by more than [`BOUNDARY_OFFSET`] of the neighbourhood's spread in
+//! that direction (an edge point of a uniformly sampled surface: ≈ 1.6; an interior point:
+//! ≈ 1/√k). A point of another view whose nearest point here is a boundary point lies
+//! beyond what this view saw, not on it (Turk & Levoy's boundary rejection, "Zippered
+//! polygon meshes from range images", SIGGRAPH 1994): matched, it would drag its view
+//! towards the edge.
 
 use std::num::NonZeroUsize;
 
@@ -20,6 +29,10 @@ use crate::cloud::PointCloud;
 
 /// Largest standard error (rad) of a surfel's normal for it to be used (≈ 8.6°).
 const MAX_NORMAL_ERROR: f64 = 0.15;
+
+/// A point is on the boundary when its neighbourhood's mean is off it, in the tangent
+/// plane, by more than this many standard deviations of the neighbourhood along the offset.
+pub(crate) const BOUNDARY_OFFSET: f64 = 1.0;
 
 /// Points per parallel work item.
 const CHUNK: usize = 256;
@@ -35,6 +48,9 @@ pub(crate) struct Surfel {
     pub normal: Option<Vector3<f64>>,
     /// Variance of `position` along the viewing ray (m²): the points' σ² over `k`.
     pub variance: f64,
+    /// Where the point lies on the view's boundary (see the module doc): the unit
+    /// in-plane direction out of the surface, away from its neighbours.
+    pub boundary: Option<Vector3<f64>>,
 }
 
 /// One view, prepared.
@@ -92,8 +108,12 @@ impl MapView {
                 (c * CHUNK..((c + 1) * CHUNK).min(points.len()))
                     .map(|i| {
                         let near = tree.nearest_k(&points[i], k);
-                        let surfel =
-                            fit_surfel(near.iter().map(|&j| points[j]), sigmas[i], &rays[i]);
+                        let surfel = fit_surfel(
+                            &points[i],
+                            near.iter().map(|&j| points[j]),
+                            sigmas[i],
+                            &rays[i],
+                        );
                         // The nearest point is the point itself (or a duplicate of it):
                         // the second nearest gives the gap to a neighbour.
                         let gap = near.get(1).map_or(0.0, |&j| (points[j] - points[i]).norm());
@@ -122,9 +142,11 @@ impl MapView {
     }
 }
 
-/// The surfel of a neighbourhood whose points have range σ `sigma`, its normal facing
-/// back along the viewing ray `ray` (kept as fitted where the ray is unknown).
+/// The surfel of `point`'s neighbourhood `points`, whose points have range σ `sigma`, its
+/// normal facing back along the viewing ray `ray` (kept as fitted where the ray is
+/// unknown).
 fn fit_surfel(
+    point: &Point3<f64>,
     points: impl Iterator<Item = Point3<f64>> + Clone,
     sigma: f64,
     ray: &Vector3<f64>,
@@ -148,6 +170,17 @@ fn fit_surfel(
         eig.eigenvalues[order[1]].max(0.0),
     );
     let reliable = l1 > 0.0 && l0 / (n * l1) < MAX_NORMAL_ERROR * MAX_NORMAL_ERROR;
+    // The mean's offset from the point along each in-plane axis, in that axis's σ.
+    let offset = mean - point.coords;
+    let on_edge = order[1..].iter().any(|&a| {
+        let spread = eig.eigenvalues[a].max(0.0).sqrt();
+        let along = offset.dot(&eig.eigenvectors.column(a)).abs();
+        spread > 0.0 && along > BOUNDARY_OFFSET * spread
+    });
+    let across = eig.eigenvectors.column(order[0]).into_owned();
+    let boundary = on_edge
+        .then(|| -(offset - across * offset.dot(&across)))
+        .and_then(|out| out.try_normalize(1e-12));
     Surfel {
         position: Point3::from(mean),
         normal: reliable.then(|| {
@@ -155,6 +188,7 @@ fn fit_surfel(
             if n.dot(ray) > 0.0 { -n } else { n }
         }),
         variance: sigma * sigma / n,
+        boundary,
     }
 }
 
@@ -177,6 +211,25 @@ mod tests {
         assert!(view.surfels.iter().all(|s| s.normal.unwrap().z < -0.999));
 
         assert!((view.rays[0] - Vector3::z()).norm() < 1e-12);
+        // The square's rim is its boundary, its inside is not: every point of the outer
+        // ring is flagged, no point three or more rows in is.
+        for (k, s) in view.surfels.iter().enumerate() {
+            let p = view.tree.points()[k];
+            let (i, j) = (
+                (p.x / 0.002).round() as usize,
+                (p.y / 0.002).round() as usize,
+            );
+            let ring = i.min(j).min(19 - i).min(19 - j);
+            if ring == 0 {
+                let out = s.boundary.expect("rim point");
+                // Outwards: away from the square's centre.
+                let from_centre = view.tree.points()[k] - Point3::new(0.019, 0.019, 0.5);
+                assert!(out.dot(&from_centre) > 0.0, "rim point {i},{j}");
+            }
+            if ring >= 3 {
+                assert!(s.boundary.is_none(), "inner point {i},{j}");
+            }
+        }
         // The same patch with depth noise of about the neighbourhood's size (pseudo-random,
         // uniform in ±4 mm): the fit cannot pin the normal down.
         let noisy: Vec<_> = grid
