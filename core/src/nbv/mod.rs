@@ -48,8 +48,9 @@ pub use nbv_error::NbvError;
 pub use objectives::{
     AreaRay, GainMap, Objective, RayVoxel, Visibility, VoxelClass, apply_movement_cost,
     area_factor_ray, area_factor_view, average_entropy_ray, average_entropy_view, cast_ray,
-    entropy, joint_distance, occlusion_aware_ray, proximity_count_ray, rear_side_entropy_ray,
-    rear_side_voxel_ray, unobserved_voxel_ray, view_gain,
+    entropy, joint_distance, lazy_best, movement_cost_total, occlusion_aware_ray,
+    proximity_count_ray, rear_side_entropy_ray, rear_side_voxel_ray, unobserved_voxel_ray,
+    view_gain,
 };
 pub use sensor_rays::SensorRays;
 pub use stop_rule::{GainMeasure, StopReason, StopRule};
@@ -58,7 +59,7 @@ pub use view_score::ScoreWeights;
 pub use view_sphere::{SphereSample, ViewSphere};
 pub use viewpoint_list::{
     Candidate, GoalFilter, NbvParams, NextBestView, Viewpoint, ViewpointList, ViewpointSet,
-    VisibilityForm, sort_best_first,
+    VisibilityForm, compare_best_first, sort_best_first,
 };
 pub use visibility::{
     RayHit, VisibleVoxels, first_hit, first_hit_literal, visible_voxels, visible_voxels_literal,

@@ -406,12 +406,15 @@ enum SampleOutcome {
 /// Sorts by decreasing utility (the score unless a movement cost was applied), ties by
 /// increasing (i_θ, i_φ).
 pub fn sort_best_first(candidates: &mut [Candidate]) {
-    candidates.sort_by(|a, b| {
-        b.utility.total_cmp(&a.utility).then_with(|| {
-            let key = |c: &Candidate| (c.viewpoint.sample.i_theta, c.viewpoint.sample.i_phi);
-            key(a).cmp(&key(b))
-        })
-    });
+    candidates.sort_by(compare_best_first);
+}
+
+/// The order of [`sort_best_first`]: higher utility first, ties by sphere sample.
+pub fn compare_best_first(a: &Candidate, b: &Candidate) -> std::cmp::Ordering {
+    b.utility.total_cmp(&a.utility).then_with(|| {
+        let key = |c: &Candidate| (c.viewpoint.sample.i_theta, c.viewpoint.sample.i_phi);
+        key(a).cmp(&key(b))
+    })
 }
 
 #[cfg(test)]

@@ -14,7 +14,10 @@ use super::{
 };
 use crate::cloud::PlaneFit;
 use crate::math::Pose;
-use crate::nbv::{InformationGain, NextBestView, StopReason, VisitedViews};
+use crate::nbv::{
+    Candidate, InformationGain, NextBestView, StopReason, VisitedViews, lazy_best,
+    movement_cost_total,
+};
 use crate::rig::RigError;
 
 /// Explores `object` (its cluster in `region`, standing on `table`) until a stop; the
@@ -90,19 +93,49 @@ pub(super) fn explore_object(
             }
         }
         let mut taken = false;
-        while let Some(candidate) = list.pop_first() {
-            attempt += 1;
-            let seed = config.seed ^ ((j as u64) << 32) ^ attempt;
+        // The movement cost's normaliser Σc, fixed for the round (see `lazy_best`).
+        let lambda = nbv.params.cost_weight;
+        let total_cost = if lambda > 0.0 {
+            movement_cost_total(&list.candidates, &ep.rig.arm.joints()?)
+        } else {
+            0.0
+        };
+        loop {
             let start = ep.rig.arm.joints()?;
-            let goals: Vec<_> = candidate
-                .viewpoint
-                .solutions
-                .iter()
-                .map(|s| s.joints)
-                .collect();
-            let planned = timed(&mut object.times.planning, || {
+            // Plans to one candidate: its IK goals, a seed of its own.
+            let mut plan = |candidate: &Candidate| {
+                attempt += 1;
+                let seed = config.seed ^ ((j as u64) << 32) ^ attempt;
+                let goals: Vec<_> = candidate
+                    .viewpoint
+                    .solutions
+                    .iter()
+                    .map(|s| s.joints)
+                    .collect();
                 plan_clearing_start(&mut planner, &start, &goals, seed)
+            };
+            // The best candidate and its path: in ranked order, or with the movement cost
+            // the exact best by planned path length.
+            let next = timed(&mut object.times.planning, || {
+                if lambda > 0.0 {
+                    lazy_best(
+                        &mut list.candidates,
+                        &start,
+                        lambda,
+                        total_cost,
+                        plan,
+                        |p| p.stats.length_after_shortcut,
+                    )
+                } else {
+                    list.pop_first().map(|c| {
+                        let planned = plan(&c);
+                        (c, planned)
+                    })
+                }
             });
+            let Some((candidate, planned)) = next else {
+                break;
+            };
             let planned = match planned {
                 Ok(p) => p,
                 Err(e) => {

@@ -30,7 +30,7 @@ mod visibility_probability;
 
 pub use area_factor::{AreaRay, area_factor_ray, area_factor_view};
 pub use average_entropy::{average_entropy_ray, average_entropy_view};
-pub use movement_cost::{apply_movement_cost, joint_distance};
+pub use movement_cost::{apply_movement_cost, joint_distance, lazy_best, movement_cost_total};
 pub use objective::Objective;
 pub use occlusion_aware::occlusion_aware_ray;
 pub use proximity_count::proximity_count_ray;

@@ -6,16 +6,21 @@
 //!
 //! over the candidates of one round, for any objective's G (eq. (4)'s score included).
 //!
-//! c(v) is the **straight joint-space distance** (Euclidean norm of the joint differences,
-//! rad) from the arm's current joints to the nearest of the candidate's IK goals — not the
-//! length of a planned path: planning every candidate (RRT-Connect, tens of candidates per
-//! round) would cost more than the rest of the round. The planner's path to the chosen goal
-//! is at least this long; around obstacles it can be much longer.
+//! c(v) is the joint-space length (rad) of the **planned** motion to the candidate, found
+//! without planning every candidate (RRT-Connect for tens of candidates per round would cost
+//! more than the rest of the round). [`apply_movement_cost`] ranks the candidates with the
+//! straight joint-space distance to each one's nearest IK goal, a lower bound of any planned
+//! path's length, so each utility is an upper bound of the true one; the normaliser Σc is
+//! the straight distances' sum and stays fixed. [`lazy_best`] then plans best first: it
+//! plans the candidate with the highest bound, replaces the bound by the true utility, and
+//! stops when the best candidate is planned — its true utility is at least every other
+//! bound, so it is the exact argmax of U, usually after a few plans (lazy evaluation, as in
+//! lazy PRM: Bohlin & Kavraki, ICRA 2000). The path it planned is the one executed.
 //!
 //! With λ = 0 the utility is G itself (the same order as G/ΣG), so the default ranking is
 //! untouched bit for bit.
 
-use super::super::{Candidate, Viewpoint, sort_best_first};
+use super::super::{Candidate, Viewpoint, compare_best_first, sort_best_first};
 use crate::kinematics::Joints;
 
 /// c(v): the straight joint-space distance from `start` to the nearest IK goal of
@@ -50,7 +55,7 @@ pub fn apply_movement_cost(candidates: &mut [Candidate], start: &Joints, lambda:
             .map(|c| joint_distance(start, &c.viewpoint))
             .collect();
         let total_gain: f64 = candidates.iter().map(|c| c.score).sum();
-        let total_cost: f64 = costs.iter().filter(|c| c.is_finite()).sum();
+        let total_cost = movement_cost_total(candidates, start);
         for (c, cost) in candidates.iter_mut().zip(costs) {
             let g = if total_gain > 0.0 {
                 c.score / total_gain
@@ -66,6 +71,71 @@ pub fn apply_movement_cost(candidates: &mut [Candidate], start: &Joints, lambda:
         }
     }
     sort_best_first(candidates);
+}
+
+/// Σc: the straight joint-space distances from `start` to `candidates` (those with a goal).
+pub fn movement_cost_total(candidates: &[Candidate], start: &Joints) -> f64 {
+    candidates
+        .iter()
+        .map(|c| joint_distance(start, &c.viewpoint))
+        .filter(|c| c.is_finite())
+        .sum()
+}
+
+/// The candidate of `candidates` (ranked by [`apply_movement_cost`] from `start` with
+/// weight `lambda` and normaliser `total_cost`) that maximises U with c the length
+/// `length` of the path `plan` finds to it, removed from the list with that path; or the
+/// first candidate whose planning failed, with its error (the caller reports it and asks
+/// again); `None` when no candidate is left. Candidates planned but not chosen stay in the
+/// list with their true utility.
+///
+/// ```
+/// use nbv_core::nbv::lazy_best;
+/// use nbv_core::kinematics::Joints;
+/// let mut none = Vec::new();
+/// let best = lazy_best(&mut none, &Joints::zeros(), 1.0, 1.0, |_| Ok::<f64, ()>(0.0), |l| *l);
+/// assert!(best.is_none());
+/// ```
+pub fn lazy_best<P, E>(
+    candidates: &mut Vec<Candidate>,
+    start: &Joints,
+    lambda: f64,
+    total_cost: f64,
+    mut plan: impl FnMut(&Candidate) -> Result<P, E>,
+    length: impl Fn(&P) -> f64,
+) -> Option<(Candidate, Result<P, E>)> {
+    let mut planned: Vec<Option<P>> = candidates.iter().map(|_| None).collect();
+    loop {
+        if candidates.is_empty() {
+            return None;
+        }
+        if let Some(path) = planned[0].take() {
+            return Some((candidates.remove(0), Ok(path)));
+        }
+        let path = match plan(&candidates[0]) {
+            Ok(path) => path,
+            Err(e) => return Some((candidates.remove(0), Err(e))),
+        };
+        let straight = joint_distance(start, &candidates[0].viewpoint);
+        if total_cost > 0.0 && straight.is_finite() {
+            candidates[0].utility -= lambda * (length(&path) - straight).max(0.0) / total_cost;
+        }
+        planned[0] = Some(path);
+        // Re-rank, the plans following their candidates.
+        let mut order: Vec<usize> = (0..candidates.len()).collect();
+        order.sort_by(|&a, &b| compare_best_first(&candidates[a], &candidates[b]));
+        let mut slots: Vec<Option<(Candidate, Option<P>)>> = candidates
+            .drain(..)
+            .zip(planned.drain(..))
+            .map(Some)
+            .collect();
+        for k in order {
+            if let Some((c, p)) = slots[k].take() {
+                candidates.push(c);
+                planned.push(p);
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -115,8 +185,61 @@ mod tests {
         assert!((c[0].utility - (0.25 - 1.0 / 6.0)).abs() < 1e-12);
         assert!((c[1].utility - (0.75 - 5.0 / 6.0)).abs() < 1e-12);
         assert!((joint_distance(&Joints::zeros(), &c[1].viewpoint) - 6f64.sqrt()).abs() < 1e-12);
-        // Back to λ = 0: utility is the score again.
+        // Back to λ = 0: utility is the score again (below).
         apply_movement_cost(&mut c, &Joints::zeros(), 0.0);
         assert_eq!((c[0].score, c[0].utility), (3.0, 3.0));
+    }
+
+    /// Planned lengths longer than the straight distances: the far-but-straight candidate
+    /// wins once the near one's path turns out long, after planning only those two.
+    #[test]
+    fn lazy_best_plans_until_the_best_is_exact() {
+        // Gains 1, 1, 1 (shares 1/3); straight distances √6·{0.1, 0.2, 0.3} (Σ = √6·0.6).
+        let start = Joints::zeros();
+        let mut c = vec![
+            candidate(0, 1.0, 0.1),
+            candidate(1, 1.0, 0.2),
+            candidate(2, 1.0, 0.3),
+        ];
+        apply_movement_cost(&mut c, &start, 1.0);
+        let total = movement_cost_total(&c, &start);
+        assert!((total - 6f64.sqrt() * 0.6).abs() < 1e-12);
+        // Planned lengths: candidate 0 detours (3× its straight distance), 1 and 2 are straight.
+        let lengths = [6f64.sqrt() * 0.3, 6f64.sqrt() * 0.2, 6f64.sqrt() * 0.3];
+        let mut plans = Vec::new();
+        let best = lazy_best(
+            &mut c,
+            &start,
+            1.0,
+            total,
+            |cand: &Candidate| {
+                plans.push(cand.viewpoint.sample.i_theta);
+                Ok::<f64, ()>(lengths[cand.viewpoint.sample.i_theta])
+            },
+            |l| *l,
+        );
+        let (chosen, path) = best.expect("a candidate");
+        // U: 1/3 − 0.3/0.6, 1/3 − 0.2/0.6, 1/3 − 0.3/0.6 → candidate 1; 2 is never planned.
+        assert_eq!(chosen.viewpoint.sample.i_theta, 1);
+        assert_eq!(path, Ok(lengths[1]));
+        assert_eq!(plans, vec![0, 1]);
+        assert!((chosen.utility - (1.0 / 3.0 - 0.2 / 0.6)).abs() < 1e-12);
+        // What stays: candidate 0 with its true utility, ranked below 2's bound.
+        let left: Vec<_> = c.iter().map(|c| c.viewpoint.sample.i_theta).collect();
+        assert_eq!(left, vec![0, 2]);
+        assert!((c[0].utility - (1.0 / 3.0 - 0.3 / 0.6)).abs() < 1e-12);
+        // A failed plan comes back with its candidate.
+        let failed = lazy_best(
+            &mut c,
+            &start,
+            1.0,
+            total,
+            |_| Err::<f64, &str>("no path"),
+            |l| *l,
+        );
+        assert_eq!(
+            failed.map(|(c, r)| (c.viewpoint.sample.i_theta, r)),
+            Some((0, Err("no path")))
+        );
     }
 }
