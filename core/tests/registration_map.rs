@@ -181,7 +181,9 @@ fn a_view_that_sees_past_the_references_edge_stays_at_the_truth() {
     let initial = vec![Pose::identity(); 2];
     let r = register_with_models(&views, &initial, &free, &params()).unwrap();
     let end = alignment_error(&views[1..], &r.poses[1..]).mean;
-    assert!(map_report(&r).views[1].inliers > 500);
+    // The overlap (0–40°) is matched: about a third of the camera's points.
+    let inliers = map_report(&r).views[1].inliers;
+    assert!(inliers > 200, "{inliers} inliers");
     assert!(
         end < 5e-5,
         "the camera view moved {:.3} mm off the truth",
