@@ -73,8 +73,8 @@ pub struct Nbv {
     /// `"rear-side-entropy"`, `"proximity-count"`, `"area-factor"`, `"average-entropy"`
     /// ([`Objective`]).
     pub objective: Objective,
-    /// λ of Isler's utility `G/ΣG − λ·c/Σc`, c the straight joint-space distance to the
-    /// candidate's nearest IK goal (≥ 0). Default 0: ranked by G alone.
+    /// λ of Isler's utility `G/ΣG − λ·c/Σc`, c the joint-space length of the planned
+    /// motion to the candidate (≥ 0). Default 0: ranked by G alone.
     pub cost_weight: f64,
     /// The relative-gain stop rule: an object is done when its best candidate's objective
     /// value is below this share of its first round's best, in [0, 1). Default 0 (off).
