@@ -265,8 +265,9 @@ fn chunk_sums(
             continue;
         };
         let surfel = &dst.surfels[j];
+        let x = ps * local;
         let beyond = surfel.boundary.is_some_and(|out| {
-            let offset = pt.inverse_transform_point(&(ps * local)) - dst.tree.points()[j];
+            let offset = pt.inverse_transform_point(&x) - dst.tree.points()[j];
             offset.dot(&out) > 0.0
         });
         if beyond {
@@ -277,7 +278,6 @@ fn chunk_sums(
             s.cost += pair.weight * kernel.cost(dims).0;
             continue;
         }
-        let x = ps * local;
         let y = pt * surfel.position;
         if let Some(n) = surfel.normal.filter(|_| dst.rays[j] != Vector3::zeros()) {
             let to_eye = eye - y;
