@@ -55,7 +55,7 @@ pub fn apply_movement_cost(candidates: &mut [Candidate], start: &Joints, lambda:
             .map(|c| joint_distance(start, &c.viewpoint))
             .collect();
         let total_gain: f64 = candidates.iter().map(|c| c.score).sum();
-        let total_cost = movement_cost_total(candidates, start);
+        let total_cost = finite_sum(&costs);
         for (c, cost) in candidates.iter_mut().zip(costs) {
             let g = if total_gain > 0.0 {
                 c.score / total_gain
@@ -75,11 +75,16 @@ pub fn apply_movement_cost(candidates: &mut [Candidate], start: &Joints, lambda:
 
 /// Σc: the straight joint-space distances from `start` to `candidates` (those with a goal).
 pub fn movement_cost_total(candidates: &[Candidate], start: &Joints) -> f64 {
-    candidates
+    let costs: Vec<f64> = candidates
         .iter()
         .map(|c| joint_distance(start, &c.viewpoint))
-        .filter(|c| c.is_finite())
-        .sum()
+        .collect();
+    finite_sum(&costs)
+}
+
+/// Σ of the finite costs (a candidate without a goal has c = ∞ and no share).
+fn finite_sum(costs: &[f64]) -> f64 {
+    costs.iter().filter(|c| c.is_finite()).sum()
 }
 
 /// The candidate of `candidates` (ranked by [`apply_movement_cost`] from `start` with
@@ -120,21 +125,13 @@ pub fn lazy_best<P, E>(
         if total_cost > 0.0 && straight.is_finite() {
             candidates[0].utility -= lambda * (length(&path) - straight).max(0.0) / total_cost;
         }
-        planned[0] = Some(path);
-        // Re-rank, the plans following their candidates.
-        let mut order: Vec<usize> = (0..candidates.len()).collect();
-        order.sort_by(|&a, &b| compare_best_first(&candidates[a], &candidates[b]));
-        let mut slots: Vec<Option<(Candidate, Option<P>)>> = candidates
-            .drain(..)
-            .zip(planned.drain(..))
-            .map(Some)
-            .collect();
-        for k in order {
-            if let Some((c, p)) = slots[k].take() {
-                candidates.push(c);
-                planned.push(p);
-            }
-        }
+        // Only the first candidate's utility changed (it fell): move it, with its path, to
+        // its place among the rest, which stay in order.
+        let c = candidates.remove(0);
+        planned.remove(0);
+        let at = candidates.partition_point(|o| compare_best_first(o, &c).is_lt());
+        candidates.insert(at, c);
+        planned.insert(at, Some(path));
     }
 }
 
