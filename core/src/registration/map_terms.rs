@@ -8,8 +8,12 @@
 //! `C = σ_x²·u_x u_xᵀ + σ_y²·u_y u_yᵀ + σ_f²·I + T`: each sensor's range noise along its
 //! own viewing ray `u` (isotropic where the ray is unknown), a floor `σ_f`, and `T` the
 //! freedom to slide along the surface — `L²·(I − n nᵀ)` with `L = d_max` where the target
-//! surfel has a normal `n` (point-to-plane), else `(s/2)²·I` for the target's point
-//! spacing `s` (point-to-point). The cost of a correspondence is the truncated Cauchy
+//! surfel has a normal `n` (point-to-plane), else `((s/2)² + σ_x²)·I` for the target's
+//! point spacing `s` (point-to-point): a point the noise moved along its ray finds its
+//! nearest target point as far off in any direction where the target has no plane (an
+//! edge, a corner, a curved patch), so across the ray the match is as uncertain as the
+//! source's noise — weighted by the spacing alone, a box's edges dragged noisy camera
+//! views sideways by millimetres. The cost of a correspondence is the truncated Cauchy
 //! kernel `ρ(m²) = c²/2·ln(1 + m²/c²)` of its Mahalanobis distance `m² = eᵀC⁻¹e`, capped at
 //! `m = cap`; a source point without a target point within `d_max` costs the cap. A source
 //! point beyond the edge of what the target saw (its nearest target point lies on the
@@ -296,7 +300,7 @@ fn chunk_sums(
                 let n = pt.rotation * n;
                 (Matrix3::identity() - n * n.transpose()) * plane_slack
             }
-            None => Matrix3::identity() * slide,
+            None => Matrix3::identity() * (slide + sx * sx),
         };
         let Some(info) = cov.try_inverse() else {
             s.cost += pair.weight * kernel.outlier_cost();
