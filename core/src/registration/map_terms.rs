@@ -291,8 +291,8 @@ fn chunk_sums(
             }
         }
         let e = x - y;
-        let sx = src.sigmas[i];
-        let mut cov = ray_covariance(&(ps.rotation * src.rays[i]), sx * sx)
+        let var_x = src.sigmas[i] * src.sigmas[i];
+        let mut cov = ray_covariance(&(ps.rotation * src.rays[i]), var_x)
             + ray_covariance(&(pt.rotation * dst.rays[j]), surfel.variance)
             + Matrix3::identity() * floor;
         cov += match surfel.normal {
@@ -300,7 +300,7 @@ fn chunk_sums(
                 let n = pt.rotation * n;
                 (Matrix3::identity() - n * n.transpose()) * plane_slack
             }
-            None => Matrix3::identity() * (slide + sx * sx),
+            None => Matrix3::identity() * (slide + var_x),
         };
         let Some(info) = cov.try_inverse() else {
             s.cost += pair.weight * kernel.outlier_cost();
