@@ -12,7 +12,9 @@
 //! `VIEW_TO_VIEW=1` adds the MAP's view-to-view terms (the scene's setting is off);
 //! `TRUTH_POINTS=1` replaces every point by its true position (no noise); `FROM_TRUTH=1`
 //! also starts the MAP at the true poses without priors (does the data term keep them?)
-//! and prints the truth's χ² under each view's prior.
+//! and prints the truth's χ² under each view's prior; `SET="errors.scale=3 …"` applies the
+//! episode's `--set` overrides to the scene; `MAX_STAGES=n` and `MATCH_SIGMAS=x` set the
+//! MAP's masking stages and the σ within which a point counts as matched.
 
 use nbv_core::cloud::PointCloud;
 use nbv_core::cloud::io::read_cloud;
@@ -35,7 +37,17 @@ fn main() -> anyhow::Result<()> {
         [_, dir, scene, ..] => (dir.clone(), scene.clone()),
         _ => anyhow::bail!("usage: register_views VIEWS_DIR SCENE"),
     };
-    let scene = nbv_scenes::builtin::load(&scene)?;
+    let mut scene = nbv_scenes::builtin::load(&scene)?;
+    // The episode's `--set` overrides, space-separated (`SET="errors.scale=3"`).
+    if let Some(sets) = std::env::var_os("SET") {
+        let sets = sets.to_string_lossy().into_owned();
+        let overrides = sets
+            .split_whitespace()
+            .map(nbv_scenes::overrides::parse_override)
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(anyhow::Error::msg)?;
+        scene = nbv_scenes::overrides::with_overrides(&scene, &overrides, "SET", "scene")?;
+    }
     let config = scene.explore_config(nbv_core::pipeline::ExploreMode::Hybrid)?;
     let mut paths: Vec<_> = std::fs::read_dir(&dir)?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -104,6 +116,18 @@ fn main() -> anyhow::Result<()> {
             ..config.registration.clone()
         };
         params.map.view_to_view |= std::env::var_os("VIEW_TO_VIEW").is_some();
+        if let Some(n) = std::env::var("MAX_STAGES")
+            .ok()
+            .and_then(|v| v.parse().ok())
+        {
+            params.map.max_stages = n;
+        }
+        if let Some(n) = std::env::var("MATCH_SIGMAS")
+            .ok()
+            .and_then(|v| v.parse().ok())
+        {
+            params.map.match_sigmas = n;
+        }
         let t = Instant::now();
         let r = register_with_models(&views, &initial, &models, &params)?;
         show(name, &r.poses, t.elapsed().as_secs_f64());
