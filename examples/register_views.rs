@@ -31,6 +31,11 @@ fn subsample(cloud: &PointCloud, n: usize) -> PointCloud {
     cloud.select(&idx)
 }
 
+/// The number in environment variable `name`, if it is set and parses.
+fn env_number<T: std::str::FromStr>(name: &str) -> Option<T> {
+    std::env::var(name).ok()?.parse().ok()
+}
+
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().collect();
     let (dir, scene) = match &args[..] {
@@ -116,17 +121,11 @@ fn main() -> anyhow::Result<()> {
             ..config.registration.clone()
         };
         params.map.view_to_view |= std::env::var_os("VIEW_TO_VIEW").is_some();
-        if let Some(n) = std::env::var("MAX_STAGES")
-            .ok()
-            .and_then(|v| v.parse().ok())
-        {
+        if let Some(n) = env_number("MAX_STAGES") {
             params.map.max_stages = n;
         }
-        if let Some(n) = std::env::var("MATCH_SIGMAS")
-            .ok()
-            .and_then(|v| v.parse().ok())
-        {
-            params.map.match_sigmas = n;
+        if let Some(x) = env_number("MATCH_SIGMAS") {
+            params.map.match_sigmas = x;
         }
         let t = Instant::now();
         let r = register_with_models(&views, &initial, &models, &params)?;
