@@ -31,9 +31,16 @@ fn subsample(cloud: &PointCloud, n: usize) -> PointCloud {
     cloud.select(&idx)
 }
 
-/// The number in environment variable `name`, if it is set and parses.
-fn env_number<T: std::str::FromStr>(name: &str) -> Option<T> {
-    std::env::var(name).ok()?.parse().ok()
+/// The number in environment variable `name`, if it is set; an error names a value that
+/// is not one.
+fn env_number<T: std::str::FromStr>(name: &str) -> anyhow::Result<Option<T>> {
+    let Ok(text) = std::env::var(name) else {
+        return Ok(None);
+    };
+    let value = text
+        .parse()
+        .map_err(|_| anyhow::anyhow!("{name}={text:?} is not a number"))?;
+    Ok(Some(value))
 }
 
 fn main() -> anyhow::Result<()> {
@@ -54,6 +61,8 @@ fn main() -> anyhow::Result<()> {
         scene = nbv_scenes::overrides::with_overrides(&scene, &overrides, "SET", "scene")?;
     }
     let config = scene.explore_config(nbv_core::pipeline::ExploreMode::Hybrid)?;
+    let max_stages: Option<usize> = env_number("MAX_STAGES")?;
+    let match_sigmas: Option<f64> = env_number("MATCH_SIGMAS")?;
     let mut paths: Vec<_> = std::fs::read_dir(&dir)?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|e| e == "ply"))
@@ -121,12 +130,8 @@ fn main() -> anyhow::Result<()> {
             ..config.registration.clone()
         };
         params.map.view_to_view |= std::env::var_os("VIEW_TO_VIEW").is_some();
-        if let Some(n) = env_number("MAX_STAGES") {
-            params.map.max_stages = n;
-        }
-        if let Some(x) = env_number("MATCH_SIGMAS") {
-            params.map.match_sigmas = x;
-        }
+        params.map.max_stages = max_stages.unwrap_or(params.map.max_stages);
+        params.map.match_sigmas = match_sigmas.unwrap_or(params.map.match_sigmas);
         let t = Instant::now();
         let r = register_with_models(&views, &initial, &models, &params)?;
         show(name, &r.poses, t.elapsed().as_secs_f64());
