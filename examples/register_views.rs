@@ -14,7 +14,9 @@
 //! also starts the MAP at the true poses without priors (does the data term keep them?)
 //! and prints the truth's χ² under each view's prior; `SET="errors.scale=3 …"` applies the
 //! episode's `--set` overrides to the scene; `MAX_STAGES=n` and `MATCH_SIGMAS=x` set the
-//! MAP's masking stages and the σ within which a point counts as matched.
+//! MAP's masking stages and the σ within which a point counts as matched; `DECOMPOSE=1`
+//! prints each view's residual misalignment (rotation, shift of its true centroid, world
+//! axes); `ONLY_MAP=1` skips the paper's p-ICP-GPA and sequential ICP.
 
 use nbv_core::cloud::PointCloud;
 use nbv_core::cloud::io::read_cloud;
@@ -103,6 +105,31 @@ fn main() -> anyhow::Result<()> {
             mean * 1e3,
             cells.join(" ")
         );
+        if std::env::var_os("DECOMPOSE").is_some() {
+            // Each view's residual misalignment: rotation (°) and the shift of its true
+            // centroid (mm), world axes.
+            for (k, (v, p)) in views.iter().zip(poses).enumerate() {
+                let Some(truth) = &v.truth else { continue };
+                let moved: Vec<_> = v.points.iter().map(|x| p * x).collect();
+                let Ok(fit) = nbv_core::registration::rigid_procrustes(&moved, truth) else {
+                    continue;
+                };
+                let e = fit.inverse();
+                let c = nalgebra::Point3::from(
+                    truth
+                        .iter()
+                        .map(|t| t.coords)
+                        .sum::<nalgebra::Vector3<f64>>()
+                        / truth.len() as f64,
+                );
+                let w = e.rotation.scaled_axis() * 180.0 / std::f64::consts::PI;
+                let t = (e * c - c) * 1e3;
+                println!(
+                    "    v{k:02} rot {:6.2} {:6.2} {:6.2} deg  shift {:6.1} {:6.1} {:6.1} mm",
+                    w.x, w.y, w.z, t.x, t.y, t.z
+                );
+            }
+        }
         let rel: Vec<Pose> = poses.iter().map(|p| anchor_fit * p).collect();
         let e = per_view(&rel);
         let mean = alignment_error(&views, &rel).mean;
@@ -123,7 +150,13 @@ fn main() -> anyhow::Result<()> {
                 point_to_plane: false,
             },
         ),
-    ] {
+    ]
+    .into_iter()
+    .take(if std::env::var_os("ONLY_MAP").is_some() {
+        1
+    } else {
+        3
+    }) {
         let mut params = RegistrationParams {
             method,
             reference: 0,
