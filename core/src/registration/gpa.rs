@@ -14,7 +14,9 @@
 //!    view (in parallel), the rigid transform moving its set members, in the view's own
 //!    frame, onto the centroids — all views against the same centroids — then new
 //!    centroids, repeated until the residual settles (same `tolerance`) or
-//!    `max_inner_iterations` fits were made (1 gives a single fit per outer iteration);
+//!    `max_inner_iterations` fits were made (1 gives a single fit per outer iteration).
+//!    The sets are summed once by pair of views ([`SetMoments`]), so each round costs
+//!    O(views²) instead of a pass over every member;
 //! 6. stop if that update turns no view relative to the reference view by more than
 //!    `rotation_tolerance` and moves no view's point centroid by more than
 //!    `translation_tolerance` (the poses of step 1 are returned), else take it.
@@ -30,7 +32,7 @@ use rayon::prelude::*;
 
 use super::independent_sets::{IndependentSets, find_independent_sets};
 use super::mutual_neighbours::{MutualSearch, ViewLayout};
-use super::procrustes::CrossCovariance;
+use super::set_moments::SetMoments;
 use super::view_tree::ViewTree;
 use super::{
     GpaReport, MethodReport, Registration, RegistrationError, RegistrationParams, SetRule,
@@ -39,7 +41,7 @@ use super::{
 use crate::cloud::PointCloud;
 use crate::math::Pose;
 
-/// Sets (centroids) or set members (fits) per parallel work item.
+/// Sets per parallel work item of the residual.
 const CHUNK: usize = 512;
 
 /// The independent sets found at one set of poses, indexed per view.
@@ -47,8 +49,8 @@ struct Correspondences {
     sets: IndependentSets,
     /// (view, local point index) of every entry of `sets.members()`.
     locals: Vec<(u32, u32)>,
-    /// Per view: (local point index, set index) of its set members, in set order.
-    members_of: Vec<Vec<(u32, u32)>>,
+    /// Set members per view.
+    per_view: Vec<usize>,
 }
 
 /// Runs p-ICP-GPA on checked input.
@@ -78,7 +80,7 @@ pub(crate) fn run(
         if corr.sets.is_empty() {
             break (corr, None, StopReason::NoCorrespondences);
         }
-        let (centroids, mse) = centroids(&trees, &corr, &poses);
+        let mse = residual(&trees, &corr, &poses);
         history.push(mse);
         if settled(&history, params.tolerance) {
             break (corr, Some(mse), StopReason::Converged);
@@ -87,7 +89,7 @@ pub(crate) fn run(
             break (corr, Some(mse), StopReason::MaxIterations);
         }
         let mut updated = poses.clone();
-        let Some(inner) = consensus(&trees, &corr, centroids, mse, &mut updated, params) else {
+        let Some(inner) = consensus(&trees, &corr, mse, &mut updated, params) else {
             break (corr, Some(mse), StopReason::Degenerate);
         };
         inner_iterations += inner;
@@ -111,7 +113,7 @@ pub(crate) fn run(
         independent_sets: corr.sets.len(),
         linked_points: corr.sets.linked_points(),
         points_in_sets: corr.sets.points_in_sets(),
-        correspondences_per_view: corr.members_of.iter().map(Vec::len).collect(),
+        correspondences_per_view: corr.per_view.clone(),
         unconnected_views,
     };
     // Gauge: the reference view keeps its initial pose (exactly), the others follow it.
@@ -137,19 +139,19 @@ pub(crate) fn run(
 /// Generalised Procrustes on fixed correspondences (Figure 4, line 22, after Toldo et
 /// al.): alternately fit every view onto the current centroids and recompute the
 /// centroids, until the mean squared distance to them settles or `max_inner_iterations`
-/// fits were made. Updates `poses`; returns the number of fits, or `None` if no view
+/// fits were made, both from the sets' [`SetMoments`]. Updates `poses`; returns the number of fits, or `None` if no view
 /// could be fitted at all.
 fn consensus(
     trees: &[ViewTree],
     corr: &Correspondences,
-    mut centroids: Vec<Point3<f64>>,
     mut mse: f64,
     poses: &mut [Pose],
     params: &RegistrationParams,
 ) -> Option<usize> {
+    let moments = SetMoments::new(trees, &corr.sets, &corr.locals);
     let mut fitted = 0;
     while fitted < params.max_inner_iterations {
-        let fits = fit_views(trees, corr, &centroids);
+        let fits = moments.fits(poses);
         if fits.iter().all(Option::is_none) {
             break;
         }
@@ -160,7 +162,7 @@ fn consensus(
         }
         fitted += 1;
         let previous = mse;
-        (centroids, mse) = self::centroids(trees, corr, poses);
+        mse = moments.mean_squared_residual(poses);
         if settled(&[previous, mse], params.tolerance) {
             break;
         }
@@ -168,48 +170,6 @@ fn consensus(
     (fitted > 0).then_some(fitted)
 }
 
-/// For every view, the rigid transform moving its set members (own frame) onto their
-/// centroids, or `None` if they do not determine one. Sums run in parallel over fixed
-/// chunks of each view's members and merge in chunk order.
-fn fit_views(
-    trees: &[ViewTree],
-    corr: &Correspondences,
-    centroids: &[Point3<f64>],
-) -> Vec<Option<Pose>> {
-    let w = trees.len();
-    let work: Vec<(usize, usize)> = (0..w)
-        .flat_map(|v| {
-            let n = corr.members_of[v].len();
-            (0..n.div_ceil(CHUNK)).map(move |c| (v, c * CHUNK))
-        })
-        .collect();
-    let partial: Vec<(usize, CrossCovariance)> = work
-        .par_iter()
-        .map(|&(v, start)| {
-            let points = trees[v].points();
-            let members = &corr.members_of[v];
-            let (i0, s0) = members[0];
-            let mut acc = CrossCovariance::new(points[i0 as usize], centroids[s0 as usize]);
-            for &(i, s) in &members[start..(start + CHUNK).min(members.len())] {
-                acc.add(&points[i as usize], &centroids[s as usize]);
-            }
-            (v, acc)
-        })
-        .collect();
-    let mut per_view: Vec<Option<CrossCovariance>> = vec![None; w];
-    for (v, acc) in partial {
-        match &mut per_view[v] {
-            Some(sum) => sum.merge(&acc),
-            None => per_view[v] = Some(acc),
-        }
-    }
-    per_view
-        .into_iter()
-        .map(|acc| acc.and_then(|a| a.solve().ok()))
-        .collect()
-}
-
-/// Mutual nearest neighbours and independent sets at `poses`.
 fn correspond(
     trees: &[ViewTree],
     poses: &[Pose],
@@ -217,8 +177,8 @@ fn correspond(
     search: &mut MutualSearch,
     rule: SetRule,
 ) -> Correspondences {
-    let edges = search.edges(trees, poses, layout);
-    let sets = find_independent_sets(layout, &edges, rule);
+    let partners = search.partners(trees, poses, layout);
+    let sets = find_independent_sets(layout, &partners, rule);
     let locals: Vec<(u32, u32)> = sets
         .members()
         .par_iter()
@@ -227,30 +187,27 @@ fn correspond(
             (v as u32, i as u32)
         })
         .collect();
-    let mut members_of = vec![Vec::new(); layout.views()];
-    for s in 0..sets.len() {
-        for &(v, i) in &locals[sets.range(s)] {
-            members_of[v as usize].push((i, s as u32));
-        }
+    let mut per_view = vec![0; layout.views()];
+    for &(v, _) in &locals {
+        per_view[v as usize] += 1;
     }
     Correspondences {
         sets,
         locals,
-        members_of,
+        per_view,
     }
 }
 
-/// Centroid of every set at `poses` (parallel over sets) and the mean squared distance of
-/// the members to their centroid (0 without sets).
-fn centroids(
-    trees: &[ViewTree],
-    corr: &Correspondences,
-    poses: &[Pose],
-) -> (Vec<Point3<f64>>, f64) {
+/// The mean squared distance of the sets' members to their centroids at `poses` (0
+/// without sets), member by member (parallel over sets, summed in chunk order).
+fn residual(trees: &[ViewTree], corr: &Correspondences, poses: &[Pose]) -> f64 {
     let sets = &corr.sets;
+    if sets.is_empty() {
+        return 0.0;
+    }
     let position =
         |&(v, i): &(u32, u32)| poses[v as usize] * trees[v as usize].points()[i as usize];
-    let chunks: Vec<Vec<(Point3<f64>, f64)>> = (0..sets.len().div_ceil(CHUNK))
+    let chunks: Vec<f64> = (0..sets.len().div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
             (c * CHUNK..((c + 1) * CHUNK).min(sets.len()))
@@ -260,27 +217,15 @@ fn centroids(
                         .iter()
                         .fold(Vector3::zeros(), |acc, m| acc + position(m).coords);
                     let centroid = Point3::from(sum / members.len() as f64);
-                    let sq: f64 = members
+                    members
                         .iter()
                         .map(|m| (position(m) - centroid).norm_squared())
-                        .sum();
-                    (centroid, sq)
+                        .sum::<f64>()
                 })
-                .collect()
+                .sum()
         })
         .collect();
-    let mut centroids = Vec::with_capacity(sets.len());
-    let mut sum_sq = 0.0;
-    for (c, sq) in chunks.into_iter().flatten() {
-        centroids.push(c);
-        sum_sq += sq;
-    }
-    let mse = if sets.is_empty() {
-        0.0
-    } else {
-        sum_sq / sets.points_in_sets() as f64
-    };
-    (centroids, mse)
+    chunks.iter().sum::<f64>() / sets.points_in_sets() as f64
 }
 
 /// Largest rotation (radians) and displacement of a view's point centroid (metres) of

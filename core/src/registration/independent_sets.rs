@@ -2,7 +2,8 @@
 //! view and at least two, that are matched to each other across views.
 //!
 //! The input is the mutual-nearest-neighbour graph (one node per point, an edge per
-//! mutual pair). Because a point has at most one mutual nearest neighbour in each other
+//! mutual pair) as a partner table: each point's mutual nearest neighbour in every other
+//! view ([`MutualSearch::partners`](super::mutual_neighbours::MutualSearch::partners)). Because a point has at most one mutual nearest neighbour in each other
 //! view, every node has at most one neighbour per view, and a complete subgraph can never
 //! hold two points of one view. Two rules are offered ([`SetRule`]):
 //!
@@ -23,9 +24,7 @@ use rayon::prelude::*;
 
 use super::SetRule;
 use super::mutual_neighbours::ViewLayout;
-
-/// Marks an empty partner slot.
-const NONE: u32 = u32::MAX;
+use super::nearest_cache::NONE;
 
 /// Nodes per parallel work item.
 const CHUNK: usize = 1024;
@@ -77,7 +76,7 @@ impl IndependentSets {
         self.linked
     }
 
-    fn from_sets(sets: impl IntoIterator<Item = Vec<u32>>, linked: usize) -> Self {
+    pub(crate) fn from_sets(sets: impl IntoIterator<Item = Vec<u32>>, linked: usize) -> Self {
         let mut members = Vec::new();
         let mut starts = vec![0];
         for s in sets {
@@ -92,39 +91,55 @@ impl IndependentSets {
     }
 }
 
-/// Independent sets of the graph with nodes `0..layout.total()` and the given edges
-/// (pairs of points of different views; a point has at most one partner per view).
+/// Independent sets of the graph with nodes `0..layout.total()` given as a partner table:
+/// `partners[u * w + k]` is u's neighbour in view k, or `NONE` (a symmetric table; `w`
+/// views).
 pub(crate) fn find_independent_sets(
     layout: &ViewLayout,
-    edges: &[[u32; 2]],
+    partners: &[u32],
     rule: SetRule,
 ) -> IndependentSets {
     let w = layout.views();
     let total = layout.total();
-    // partners[u * w + k]: u's mutual nearest neighbour in view k, or NONE.
-    let mut partners = vec![NONE; total * w];
-    for &[a, b] in edges {
-        let (va, _) = layout.local(a as usize);
-        let (vb, _) = layout.local(b as usize);
-        debug_assert!(va != vb, "edges join points of different views");
-        partners[a as usize * w + vb] = b;
-        partners[b as usize * w + va] = a;
-    }
+    debug_assert_eq!(partners.len(), total * w);
     let row = |u: usize| &partners[u * w..(u + 1) * w];
-    let linked = (0..total)
-        .filter(|&u| row(u).iter().any(|&p| p != NONE))
-        .count();
+    let linked = (0..total.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            (c * CHUNK..((c + 1) * CHUNK).min(total))
+                .filter(|&u| row(u).iter().any(|&p| p != NONE))
+                .count()
+        })
+        .sum();
     match rule {
         SetRule::Cliques => {
-            let chunks: Vec<Vec<Vec<u32>>> = (0..total.div_ceil(CHUNK))
+            // Per chunk: its sets' members, one after another, and each set's size.
+            let chunks: Vec<(Vec<u32>, Vec<usize>)> = (0..total.div_ceil(CHUNK))
                 .into_par_iter()
                 .map(|c| {
-                    (c * CHUNK..((c + 1) * CHUNK).min(total))
-                        .filter_map(|u| clique_led_by(u, layout.local(u).0, &row))
-                        .collect()
+                    let (mut members, mut sizes) = (Vec::new(), Vec::new());
+                    for u in c * CHUNK..((c + 1) * CHUNK).min(total) {
+                        let before = members.len();
+                        if clique_led_by(u, layout.local(u).0, &row, &mut members) {
+                            sizes.push(members.len() - before);
+                        }
+                    }
+                    (members, sizes)
                 })
                 .collect();
-            IndependentSets::from_sets(chunks.into_iter().flatten(), linked)
+            let mut sets = IndependentSets {
+                members: Vec::with_capacity(chunks.iter().map(|c| c.0.len()).sum()),
+                starts: vec![0],
+                linked,
+            };
+            for (members, sizes) in chunks {
+                sets.members.extend_from_slice(&members);
+                for size in sizes {
+                    let end = sets.starts[sets.starts.len() - 1] + size;
+                    sets.starts.push(end);
+                }
+            }
+            sets
         }
         SetRule::Components => {
             let mut seen = vec![false; total];
@@ -159,12 +174,14 @@ pub(crate) fn find_independent_sets(
     }
 }
 
-/// The complete component led by node `u` (of view `view_u`), if `u` leads one.
+/// Whether node `u` (of view `view_u`) leads a complete component; if so, its members
+/// (in increasing id order) are appended to `out`.
 fn clique_led_by<'a>(
     u: usize,
     view_u: usize,
     row: &impl Fn(usize) -> &'a [u32],
-) -> Option<Vec<u32>> {
+    out: &mut Vec<u32>,
+) -> bool {
     let row_u = row(u);
     // The set by view slot: u in its own slot, its partners in theirs.
     let slot = |k: usize| if k == view_u { u as u32 } else { row_u[k] };
@@ -175,7 +192,7 @@ fn clique_led_by<'a>(
         }
         has_partner = true;
         if (v as usize) < u {
-            return None;
+            return false;
         }
         // v's closed neighbourhood must be exactly the set.
         let row_v = row(v as usize);
@@ -184,10 +201,13 @@ fn clique_led_by<'a>(
             .enumerate()
             .any(|(m, &pv)| m != k && pv != slot(m))
         {
-            return None;
+            return false;
         }
     }
-    has_partner.then(|| (0..row_u.len()).map(slot).filter(|&p| p != NONE).collect())
+    if has_partner {
+        out.extend((0..row_u.len()).map(slot).filter(|&p| p != NONE));
+    }
+    has_partner
 }
 
 #[cfg(test)]
@@ -195,8 +215,20 @@ mod tests {
     use super::*;
 
     /// Sets as plain vectors, for comparison.
+    /// The partner table of a graph given by its edges.
+    fn partners(layout: &ViewLayout, edges: &[[u32; 2]]) -> Vec<u32> {
+        let w = layout.views();
+        let mut partners = vec![NONE; layout.total() * w];
+        for &[a, b] in edges {
+            let (va, vb) = (layout.local(a as usize).0, layout.local(b as usize).0);
+            partners[a as usize * w + vb] = b;
+            partners[b as usize * w + va] = a;
+        }
+        partners
+    }
+
     fn sets(layout: &ViewLayout, edges: &[[u32; 2]], rule: SetRule) -> Vec<Vec<u32>> {
-        let s = find_independent_sets(layout, edges, rule);
+        let s = find_independent_sets(layout, &partners(layout, edges), rule);
         (0..s.len()).map(|k| s.set(k).to_vec()).collect()
     }
 
@@ -212,7 +244,7 @@ mod tests {
         for rule in [SetRule::Cliques, SetRule::Components] {
             assert_eq!(sets(&l, &edges, rule), vec![vec![0, 3], vec![1, 4, 7]]);
         }
-        let s = find_independent_sets(&l, &edges, SetRule::Cliques);
+        let s = find_independent_sets(&l, &partners(&l, &edges), SetRule::Cliques);
         assert_eq!((s.linked_points(), s.points_in_sets()), (5, 5));
     }
 
@@ -233,7 +265,7 @@ mod tests {
             sets(&layout(), &edges, SetRule::Components),
             vec![vec![0, 4, 8], vec![1, 5]]
         );
-        let s = find_independent_sets(&layout(), &edges, SetRule::Cliques);
+        let s = find_independent_sets(&layout(), &partners(&layout(), &edges), SetRule::Cliques);
         assert_eq!((s.linked_points(), s.points_in_sets()), (5, 2));
     }
 

@@ -62,6 +62,7 @@ mod params;
 mod procrustes;
 mod report;
 mod sequential_icp;
+mod set_moments;
 mod view_model;
 mod view_tree;
 

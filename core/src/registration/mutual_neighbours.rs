@@ -7,13 +7,14 @@
 //! view j to each point of view i ([`NearestCache`]: exact answers, searched again only
 //! where the poses moved enough to change them), so the mutual test is a lookup in both
 //! directions. Points are numbered globally (view 0 first); [`ViewLayout`] maps between
-//! global ids and (view, index). Updates and the edge scan run in parallel over fixed
-//! chunks of points and are collected in order, so the edge list is the same at any
-//! thread count.
+//! global ids and (view, index). The graph comes out as a partner table (each point's
+//! mutual nearest neighbour in every other view), each row written by the work item of
+//! its own point: updates and rows run in parallel over fixed chunks of points, and the
+//! table is the same at any thread count.
 
 use rayon::prelude::*;
 
-use super::nearest_cache::{CHUNK, NearestCache};
+use super::nearest_cache::{CHUNK, NONE, NearestCache};
 use super::view_tree::ViewTree;
 use crate::math::Pose;
 
@@ -81,15 +82,19 @@ impl MutualSearch {
         Self { caches, d_max }
     }
 
-    /// All mutual-nearest-neighbour pairs `[a, b]` (global ids, view(a) < view(b)) within
-    /// `d_max`, with view v at pose `poses[v]` (view frame → common frame). Ordered by
-    /// `a`, then by the view of `b`.
-    pub(crate) fn edges(
+    /// The mutual-nearest-neighbour graph within `d_max`, with view v at pose `poses[v]`
+    /// (view frame → common frame), as a partner table: `partners[u * w + k]` is the
+    /// global id of point u's mutual nearest neighbour in view k, or [`NONE`]. Rows are
+    /// filled in parallel, each from its own point's cached answers; a pair (a in view i,
+    /// b in view j, i < j) is linked when b is a's nearest point of view j within `d_max`
+    /// and a is b's nearest point of view i, and both rows test exactly that, so the table
+    /// is symmetric.
+    pub(crate) fn partners(
         &mut self,
         trees: &[ViewTree],
         poses: &[Pose],
         layout: &ViewLayout,
-    ) -> Vec<[u32; 2]> {
+    ) -> Vec<u32> {
         let w = trees.len();
         let inverse: Vec<Pose> = poses.iter().map(Pose::inverse).collect();
         let work: Vec<_> = self
@@ -107,31 +112,43 @@ impl MutualSearch {
         });
         let d_max = self.d_max;
         let caches = &self.caches;
-        let scan: Vec<(usize, usize)> = (0..w)
-            .flat_map(|i| {
-                let n = trees[i].points().len();
-                (0..n.div_ceil(CHUNK)).map(move |c| (i, c * CHUNK))
-            })
-            .collect();
-        let chunks: Vec<Vec<[u32; 2]>> = scan
-            .par_iter()
-            .map(|&(i, start)| {
-                let end = (start + CHUNK).min(trees[i].points().len());
-                let mut edges = Vec::new();
-                for a in start..end {
-                    for j in i + 1..w {
-                        let Some((b, _)) = caches[i * w + j].entries()[a].within(d_max) else {
-                            continue;
-                        };
-                        if caches[j * w + i].entries()[b].index as usize == a {
-                            edges.push([layout.global(i, a) as u32, layout.global(j, b) as u32]);
-                        }
+        let mut partners = vec![NONE; layout.total() * w];
+        // Work items: (view, first point, that chunk's rows).
+        let mut items = Vec::new();
+        let mut rest = partners.as_mut_slice();
+        for (i, tree) in trees.iter().enumerate() {
+            let (rows, tail) = rest.split_at_mut(tree.points().len() * w);
+            rest = tail;
+            items.extend(
+                rows.chunks_mut(CHUNK * w)
+                    .enumerate()
+                    .map(|(c, rows)| (i, c * CHUNK, rows)),
+            );
+        }
+        items.into_par_iter().for_each(|(i, start, rows)| {
+            for (k, row) in rows.chunks_mut(w).enumerate() {
+                let a = start + k;
+                for (j, slot) in row.iter_mut().enumerate() {
+                    let to_j = caches[i * w + j].entries();
+                    let from_j = caches[j * w + i].entries();
+                    let partner = match j.cmp(&i) {
+                        std::cmp::Ordering::Equal => None,
+                        std::cmp::Ordering::Greater => to_j[a]
+                            .within(d_max)
+                            .map(|(b, _)| b)
+                            .filter(|&b| from_j[b].index as usize == a),
+                        std::cmp::Ordering::Less => Some(to_j[a].index)
+                            .filter(|&b| b != NONE)
+                            .map(|b| b as usize)
+                            .filter(|&b| from_j[b].within(d_max).is_some_and(|(x, _)| x == a)),
+                    };
+                    if let Some(b) = partner {
+                        *slot = layout.global(j, b) as u32;
                     }
                 }
-                edges
-            })
-            .collect();
-        chunks.concat()
+            }
+        });
+        partners
     }
 }
 
@@ -166,16 +183,25 @@ mod tests {
         let layout = ViewLayout::new([3, 3]);
         let id = [Pose::identity(), Pose::identity()];
         let mut search = MutualSearch::new(&trees, 0.5);
-        assert_eq!(search.edges(&trees, &id, &layout), vec![[0, 3], [2, 5]]);
+        // Rows: ids 0..3 (view 0), 3..6 (view 1); two slots each (views 0 and 1).
+        let n = NONE;
+        let start = vec![n, 3, n, n, n, 5, 0, n, n, n, 2, n];
+        assert_eq!(search.partners(&trees, &id, &layout), start);
         // Moving view 1 by +1 m in x at its pose: 1.1 <-> 1, 1.2 rejected, 3.05 too far.
         let moved = [Pose::identity(), Pose::translation(1.0, 0.0, 0.0)];
-        assert_eq!(search.edges(&trees, &moved, &layout), vec![[1, 3]]);
+        let linked = vec![n, n, n, 3, n, n, 1, n, n, n, n, n];
+        assert_eq!(search.partners(&trees, &moved, &layout), linked);
         let far = [
             Pose::identity(),
             Pose::new(Vector3::new(9.0, 0.0, 0.0), Vector3::zeros()),
         ];
-        assert!(search.edges(&trees, &far, &layout).is_empty());
+        assert!(
+            search
+                .partners(&trees, &far, &layout)
+                .iter()
+                .all(|&p| p == n)
+        );
         // Back at the start, with the cache warm: the same answer as a fresh search.
-        assert_eq!(search.edges(&trees, &id, &layout), vec![[0, 3], [2, 5]]);
+        assert_eq!(search.partners(&trees, &id, &layout), start);
     }
 }

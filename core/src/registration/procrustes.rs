@@ -58,10 +58,9 @@ pub(crate) fn fit_pairs(
     acc.solve()
 }
 
-/// Running sums for a rigid fit, so pairs can be accumulated in chunks (in parallel) and
-/// merged in a fixed order. Coordinates are shifted by a fixed pair (`x0`, `c0`) close to
-/// the data to keep the one-pass sums well conditioned; accumulators merge only with the
-/// same shift.
+/// Running sums for a rigid fit, pair by pair or given whole (p-ICP-GPA's
+/// [`SetMoments`](super::set_moments::SetMoments)). Coordinates are shifted by a fixed pair
+/// (`x0`, `c0`) close to the data to keep the one-pass sums well conditioned.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct CrossCovariance {
     shift_x: Vector3<f64>,
@@ -86,6 +85,26 @@ impl CrossCovariance {
         }
     }
 
+    /// Sums already made, shifted by `(x0, c0)`: `n` pairs, `Σ (x − x0)`, `Σ (c − c0)` and
+    /// `Σ (x − x0)(c − c0)ᵀ`.
+    pub(crate) fn from_sums(
+        x0: Point3<f64>,
+        c0: Point3<f64>,
+        n: usize,
+        sum_x: Vector3<f64>,
+        sum_c: Vector3<f64>,
+        sum_xc: Matrix3<f64>,
+    ) -> Self {
+        Self {
+            shift_x: x0.coords,
+            shift_c: c0.coords,
+            n,
+            sum_x,
+            sum_c,
+            sum_xc,
+        }
+    }
+
     /// Adds the pair: `x` should move onto `c`.
     pub(crate) fn add(&mut self, x: &Point3<f64>, c: &Point3<f64>) {
         let dx = x.coords - self.shift_x;
@@ -94,15 +113,6 @@ impl CrossCovariance {
         self.sum_x += dx;
         self.sum_c += dc;
         self.sum_xc += dx * dc.transpose();
-    }
-
-    /// Adds the sums of `other` (same shift).
-    pub(crate) fn merge(&mut self, other: &Self) {
-        debug_assert_eq!((self.shift_x, self.shift_c), (other.shift_x, other.shift_c));
-        self.n += other.n;
-        self.sum_x += other.sum_x;
-        self.sum_c += other.sum_c;
-        self.sum_xc += other.sum_xc;
     }
 
     /// The rigid transform minimising Σ |T x − c|² over the accumulated pairs.
