@@ -139,8 +139,8 @@ pub(crate) fn run(
 /// Generalised Procrustes on fixed correspondences (Figure 4, line 22, after Toldo et
 /// al.): alternately fit every view onto the current centroids and recompute the
 /// centroids, until the mean squared distance to them settles or `max_inner_iterations`
-/// fits were made, both from the sets' [`SetMoments`]. Updates `poses`; returns the number of fits, or `None` if no view
-/// could be fitted at all.
+/// fits were made, both from the sets' [`SetMoments`]. Updates `poses`; returns the
+/// number of fits, or `None` if no view could be fitted at all.
 fn consensus(
     trees: &[ViewTree],
     corr: &Correspondences,
@@ -170,6 +170,7 @@ fn consensus(
     (fitted > 0).then_some(fitted)
 }
 
+/// Mutual nearest neighbours and independent sets at `poses`.
 fn correspond(
     trees: &[ViewTree],
     poses: &[Pose],

@@ -3,9 +3,10 @@
 //!
 //! The input is the mutual-nearest-neighbour graph (one node per point, an edge per
 //! mutual pair) as a partner table: each point's mutual nearest neighbour in every other
-//! view ([`MutualSearch::partners`](super::mutual_neighbours::MutualSearch::partners)). Because a point has at most one mutual nearest neighbour in each other
-//! view, every node has at most one neighbour per view, and a complete subgraph can never
-//! hold two points of one view. Two rules are offered ([`SetRule`]):
+//! view ([`MutualSearch::partners`](super::mutual_neighbours::MutualSearch::partners)).
+//! Because a point has at most one mutual nearest neighbour in each other view, every node
+//! has at most one neighbour per view, and a complete subgraph can never hold two points of
+//! one view. Two rules are offered ([`SetRule`]):
 //!
 //! - [`SetRule::Cliques`] (default, the paper's definition): a set is a connected
 //!   component that is a complete graph. A component that is not complete (say a–b and
@@ -76,6 +77,8 @@ impl IndependentSets {
         self.linked
     }
 
+    /// The sets given one by one (members in increasing id order), with the count of
+    /// linked points.
     pub(crate) fn from_sets(sets: impl IntoIterator<Item = Vec<u32>>, linked: usize) -> Self {
         let mut members = Vec::new();
         let mut starts = vec![0];
@@ -214,7 +217,6 @@ fn clique_led_by<'a>(
 mod tests {
     use super::*;
 
-    /// Sets as plain vectors, for comparison.
     /// The partner table of a graph given by its edges.
     fn partners(layout: &ViewLayout, edges: &[[u32; 2]]) -> Vec<u32> {
         let w = layout.views();
@@ -227,6 +229,7 @@ mod tests {
         partners
     }
 
+    /// Sets as plain vectors, for comparison.
     fn sets(layout: &ViewLayout, edges: &[[u32; 2]], rule: SetRule) -> Vec<Vec<u32>> {
         let s = find_independent_sets(layout, &partners(layout, edges), rule);
         (0..s.len()).map(|k| s.set(k).to_vec()).collect()

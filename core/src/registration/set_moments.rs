@@ -255,7 +255,10 @@ mod tests {
                 .enumerate()
                 .map(|(v, &n)| {
                     let points: Vec<Point3<f64>> = (0..n)
-                        .map(|_| Point3::new(0.5 + 0.2 * r.unit(), 0.3 - 0.2 * r.unit(), 0.8 + 0.1 * r.unit()))
+                        .map(|_| {
+                            let (x, y, z) = (r.unit(), r.unit(), r.unit());
+                            Point3::new(0.5 + 0.2 * x, 0.3 - 0.2 * y, 0.8 + 0.1 * z)
+                        })
                         .collect();
                     ViewTree::build(v, &points).unwrap()
                 })
@@ -289,18 +292,22 @@ mod tests {
             let poses: Vec<Pose> = (0..w)
                 .map(|_| {
                     let t = Vector3::new(r.unit(), r.unit(), r.unit()) * 0.1;
-                    let a = (Vector3::new(r.unit(), r.unit(), r.unit()) - Vector3::repeat(0.5)) * 0.6;
+                    let a = Vector3::new(r.unit(), r.unit(), r.unit()) - Vector3::repeat(0.5);
+                    let a = a * 0.6;
                     Isometry3::new(t, a)
                 })
                 .collect();
             let moments = SetMoments::new(&trees, &sets, &locals);
 
             // Member by member.
-            let position = |&(v, i): &(u32, u32)| poses[v as usize] * trees[v as usize].points()[i as usize];
+            let position = |&(v, i): &(u32, u32)| {
+                poses[v as usize] * trees[v as usize].points()[i as usize]
+            };
             let centroids: Vec<Point3<f64>> = (0..sets.len())
                 .map(|s| {
                     let m = &locals[sets.range(s)];
-                    Point3::from(m.iter().map(|x| position(x).coords).sum::<Vector3<f64>>() / m.len() as f64)
+                    let sum: Vector3<f64> = m.iter().map(|x| position(x).coords).sum();
+                    Point3::from(sum / m.len() as f64)
                 })
                 .collect();
             let sum_sq: f64 = (0..sets.len())
@@ -327,8 +334,9 @@ mod tests {
                 match (fit, expected) {
                     (Some(a), Some(b)) => {
                         let d = a.inverse() * b;
-                        prop_assert!(d.rotation.angle() < 1e-8 && d.translation.vector.norm() < 1e-9,
-                            "view {v}: {a:?} vs {b:?}");
+                        let close =
+                            d.rotation.angle() < 1e-8 && d.translation.vector.norm() < 1e-9;
+                        prop_assert!(close, "view {v}: {a:?} vs {b:?}");
                     }
                     (None, None) => {}
                     (a, b) => prop_assert!(false, "view {v}: {a:?} vs {b:?}"),
