@@ -47,7 +47,7 @@ const CHUNK: usize = 512;
 /// The independent sets found at one set of poses, indexed per view.
 struct Correspondences {
     sets: IndependentSets,
-    /// (view, local point index) of every entry of `sets.members()`.
+    /// (view, local point index) of every set member, set after set.
     locals: Vec<(u32, u32)>,
     /// Set members per view.
     per_view: Vec<usize>,
@@ -180,14 +180,7 @@ fn correspond(
 ) -> Correspondences {
     let partners = search.partners(trees, poses, layout);
     let sets = find_independent_sets(layout, &partners, rule);
-    let locals: Vec<(u32, u32)> = sets
-        .members()
-        .par_iter()
-        .map(|&m| {
-            let (v, i) = layout.local(m as usize);
-            (v as u32, i as u32)
-        })
-        .collect();
+    let locals = sets.locals(layout);
     let mut per_view = vec![0; layout.views()];
     for &(v, _) in &locals {
         per_view[v as usize] += 1;

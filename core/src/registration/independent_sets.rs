@@ -62,11 +62,6 @@ impl IndependentSets {
         self.starts[s]..self.starts[s + 1]
     }
 
-    /// Members of all sets (global ids), set after set.
-    pub(crate) fn members(&self) -> &[u32] {
-        &self.members
-    }
-
     /// Points in some set.
     pub(crate) fn points_in_sets(&self) -> usize {
         self.members.len()
@@ -75,6 +70,17 @@ impl IndependentSets {
     /// Points with at least one mutual nearest neighbour.
     pub(crate) fn linked_points(&self) -> usize {
         self.linked
+    }
+
+    /// (view, local point index) of every member, set after set.
+    pub(crate) fn locals(&self, layout: &ViewLayout) -> Vec<(u32, u32)> {
+        self.members
+            .par_iter()
+            .map(|&m| {
+                let (v, i) = layout.local(m as usize);
+                (v as u32, i as u32)
+            })
+            .collect()
     }
 
     /// The sets given one by one (members in increasing id order), with the count of

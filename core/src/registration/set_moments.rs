@@ -281,14 +281,7 @@ mod tests {
                 })
                 .collect();
             let sets = IndependentSets::from_sets(sets, 0);
-            let locals: Vec<(u32, u32)> = sets
-                .members()
-                .iter()
-                .map(|&m| {
-                    let (v, i) = layout.local(m as usize);
-                    (v as u32, i as u32)
-                })
-                .collect();
+            let locals = sets.locals(&layout);
             let poses: Vec<Pose> = (0..w)
                 .map(|_| {
                     let t = Vector3::new(r.unit(), r.unit(), r.unit()) * 0.1;
