@@ -22,7 +22,10 @@ use nbv_core::cloud::PointCloud;
 use nbv_core::cloud::io::read_cloud;
 use nbv_core::evaluation::alignment_error;
 use nbv_core::math::Pose;
-use nbv_core::registration::{Method, MethodReport, RegistrationParams, register_with_models};
+use nbv_core::registration::{
+    MapPreparation, Method, MethodReport, RegistrationParams, register_prepared,
+    register_with_models,
+};
 use std::time::Instant;
 
 fn subsample(cloud: &PointCloud, n: usize) -> PointCloud {
@@ -78,6 +81,20 @@ fn main() -> anyhow::Result<()> {
         for v in &mut views {
             v.points = v.truth.clone().unwrap();
         }
+    }
+    // The laser sweep's free space around the cluster, from the episode's `mid_range.ply`
+    // (as the pipeline gives it; `NO_FREE_SPACE=1` leaves it out).
+    let sweep = std::path::Path::new(&dir).join("../../../mid_range.ply");
+    let (mut free_space, mut seconds) = (None, 0.0);
+    if sweep.exists() && std::env::var_os("NO_FREE_SPACE").is_none() {
+        let sweep = read_cloud(&sweep)?;
+        let t = Instant::now();
+        free_space = nbv_core::pipeline::sweep_free_space(&sweep, &views[0], &config)?;
+        seconds = t.elapsed().as_secs_f64();
+    }
+    match &free_space {
+        Some(f) => println!("free space: {} samples, {seconds:.2} s", f.samples()),
+        None => println!("free space: none"),
     }
     let initial = vec![Pose::identity(); views.len()];
     let models = config
@@ -166,7 +183,14 @@ fn main() -> anyhow::Result<()> {
         params.map.max_stages = max_stages.unwrap_or(params.map.max_stages);
         params.map.match_sigmas = match_sigmas.unwrap_or(params.map.match_sigmas);
         let t = Instant::now();
-        let r = register_with_models(&views, &initial, &models, &params)?;
+        let r = match (method, free_space.take()) {
+            (Method::Map, Some(free)) => {
+                let prepared =
+                    MapPreparation::new(&views, &models, &params)?.with_free_space(0, free)?;
+                register_prepared(&prepared, &views, &initial, &models, &params)?
+            }
+            _ => register_with_models(&views, &initial, &models, &params)?,
+        };
         show(name, &r.poses, t.elapsed().as_secs_f64());
         if let MethodReport::Map(m) = &r.report {
             println!(

@@ -197,6 +197,7 @@ impl Scene {
             uncertainty: self.pose_uncertainty(),
             align_to_workcell: self.registration.align_to_workcell,
             calibrate_hand_eye: self.registration.calibrate_hand_eye,
+            registration_free_space: self.registration.free_space,
             registration_baselines: self.registration.baselines,
             registration_points: self.registration.points_per_view as usize,
             max_correction: (

@@ -45,6 +45,10 @@ pub fn explore(
     )?;
     let mut objects = Vec::new();
     let mut preparations = Vec::new();
+    // The laser's free space, for the registration (the camera survey of short-only mode
+    // is no accurate reference).
+    let sweep = (config.mode != ExploreMode::ShortOnly && config.registration_free_space)
+        .then_some(&phase_report.cloud);
     let nbv = NextBestView::new(config.nbv, ep.rig.camera.spec())?;
     for (j, cluster) in segmentation.clusters.iter().enumerate() {
         let region =
@@ -84,7 +88,7 @@ pub fn explore(
         if !dropped && object.views.iter().any(|v| !v.cloud.is_empty()) {
             let mut seconds = 0.0;
             let registered = timed(&mut seconds, || {
-                register_object(&object, config, phase_report.workcell.as_ref())
+                register_object(&object, config, phase_report.workcell.as_ref(), sweep)
             });
             object.times.registration += seconds;
             match registered {

@@ -79,6 +79,9 @@ pub struct ExploreConfig {
     /// object's registration and register each object again from the calibrated poses
     /// ([`estimate_hand_eye`](super::estimate_hand_eye)).
     pub calibrate_hand_eye: bool,
+    /// Give the MAP registration the laser sweep's free space around each object
+    /// ([`sweep_free_space`](super::sweep_free_space)).
+    pub registration_free_space: bool,
     /// Register each object by the paper's p-ICP-GPA and sequential ICP too, beside the
     /// model's MAP registration (for comparison only: the model does not use them).
     pub registration_baselines: bool,

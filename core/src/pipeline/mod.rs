@@ -42,6 +42,7 @@ pub use phase_one::run_phase_one;
 pub use pipeline_error::PipelineError;
 pub use plan_and_execute::{goals_at, plan_clearing_start};
 pub use pose_uncertainty::PoseUncertainty;
+pub use register_views::sweep_free_space;
 pub use results::{
     AcquiredView, Exploration, ObjectExploration, ObjectRegistration, ObjectStop, PhaseOneReport,
     StepTimes, ViewFailure,

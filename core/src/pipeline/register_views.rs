@@ -12,7 +12,7 @@ use crate::kinematics::Robot;
 use crate::math::Pose;
 use crate::perception::WorkcellAlignment;
 use crate::registration::{
-    MapPreparation, Method, MethodReport, PosePrior, Registration, RegistrationError,
+    FreeSpace, MapPreparation, Method, MethodReport, PosePrior, Registration, RegistrationError,
     RegistrationParams, ViewModel, register, register_prepared,
 };
 
@@ -44,6 +44,31 @@ fn registration_views(object: &ObjectExploration, config: &ExploreConfig) -> Vec
             }),
     );
     views
+}
+
+/// Where the laser sweep saw empty space around `cluster` (within the correspondence
+/// distance of its bounding box), its rays ending three of the laser's σ short of their
+/// hits: the free space the pipeline gives the MAP registration of `cluster`'s views
+/// ([`MapPreparation::with_free_space`]).
+pub fn sweep_free_space(
+    sweep: &PointCloud,
+    cluster: &PointCloud,
+    config: &ExploreConfig,
+) -> Result<Option<FreeSpace>, RegistrationError> {
+    let Some(first) = cluster.points.first() else {
+        return Ok(None);
+    };
+    let (lo, hi) = cluster
+        .points
+        .iter()
+        .fold((*first, *first), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
+    let reach = nalgebra::Vector3::repeat(config.registration.max_correspondence_distance);
+    let range = cluster
+        .origin_centroid()
+        .zip(cluster.centroid())
+        .map_or(1.0, |(o, c)| (c - o).norm());
+    let margin = 3.0 * config.uncertainty.laser_noise.sigma(range);
+    FreeSpace::of_scan(sweep, lo - reach, hi + reach, margin)
 }
 
 /// The rig's uncertainty, the laser's pose prior replaced by the workcell alignment's
@@ -79,12 +104,20 @@ pub(super) fn register_object(
     object: &ObjectExploration,
     config: &ExploreConfig,
     workcell: Option<&WorkcellAlignment>,
+    sweep: Option<&PointCloud>,
 ) -> Result<(ObjectRegistration, MapPreparation), RegistrationError> {
     let views = registration_views(object, config);
     let initial = vec![Pose::identity(); views.len()];
     let models = uncertainty_of(config, workcell).view_models(&views, config.frames_per_view);
     let map_params = params(config, Method::Map);
-    let prepared = MapPreparation::new(&views, &models, &map_params)?;
+    let mut prepared = MapPreparation::new(&views, &models, &map_params)?;
+    let free = match sweep {
+        Some(sweep) => sweep_free_space(sweep, &object.cluster, config)?,
+        None => None,
+    };
+    if let Some(free) = free {
+        prepared = prepared.with_free_space(0, free)?;
+    }
     let map = register_prepared(&prepared, &views, &initial, &models, &map_params)?;
     let (gpa, icp) = if config.registration_baselines {
         let icp_params = params(

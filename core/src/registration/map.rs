@@ -7,7 +7,9 @@
 //!   matched into the reference view (one way) and into each overlapping other view (both
 //!   ways, half weight each), residuals weighted by both sensors' range noise along their
 //!   rays, point-to-plane where the target's plane is well determined, a Cauchy kernel
-//!   scaled to σ and truncated;
+//!   scaled to σ and truncated; points beyond the reference's edge judged by the laser's
+//!   free space where the preparation has it
+//!   ([`MapPreparation::with_free_space`](super::MapPreparation::with_free_space));
 //! - the prior: each view's correction `ξ = (ω, t)` about its sensor origin, weighted by
 //!   the information of its [`PosePrior`](super::PosePrior). Directions the geometry does
 //!   not observe (the rotation about a bottle's axis) stay at the prior.

@@ -8,7 +8,7 @@
 use rayon::prelude::*;
 
 use super::map_view::MapView;
-use super::{RangeNoise, RegistrationError, RegistrationParams, ViewModel};
+use super::{FreeSpace, RangeNoise, RegistrationError, RegistrationParams, ViewModel};
 use crate::cloud::PointCloud;
 use crate::math::Pose;
 
@@ -76,6 +76,30 @@ impl MapPreparation {
             noises: models.iter().map(|m| m.noise).collect(),
             surface_neighbours: k,
         })
+    }
+
+    /// Attaches what view `view`'s sensor saw to be empty ([`FreeSpace`], in the view's
+    /// frame): a point of another view matched into it that lies beyond the edge of its
+    /// surface, or has no point of it within `d_max`, is then judged by where it lies — in
+    /// that free space it contradicts the view (pulled back onto its nearest point, or
+    /// costing an outlier's cap), elsewhere it is merely unseen by it and costs what a
+    /// true match is expected to cost, wherever the views move. Without free space such
+    /// points pull nothing beyond an edge and cost the cap out of reach. A view index out
+    /// of range is an error.
+    pub fn with_free_space(
+        mut self,
+        view: usize,
+        free_space: FreeSpace,
+    ) -> Result<Self, RegistrationError> {
+        let views = self.views.len();
+        let Some(v) = self.views.get_mut(view) else {
+            return Err(RegistrationError::ReferenceOutOfRange {
+                reference: view,
+                views,
+            });
+        };
+        v.free_space = Some(free_space);
+        Ok(self)
     }
 
     /// Checks that the preparation was made from `clouds` (their points and sensor

@@ -21,9 +21,21 @@
 //! costs what a true match is expected to cost (`ρ` at `m²` = the residual's constrained
 //! dimensions), so a view gains nothing by sliding points off or onto the edge: matched
 //! to the edge, such points would drag their view towards it (on a box's unseen faces,
-//! several millimetres from noise-free views started at the truth). The whole data term
-//! is a function of the poses alone, which is what lets the solver reject any step that
-//! raises it.
+//! several millimetres from noise-free views started at the truth).
+//!
+//! Where the target view knows its sensor's free space ([`FreeSpace`]: the laser sweep's,
+//! in the pipeline), a point beyond the edge or out of reach is judged by where it lies.
+//! Where the target's rays passed, it contradicts what the target saw: beyond the edge it
+//! is matched point-to-point to the edge point itself (a view slid past the rim of a
+//! box's top is pulled back), out of reach it costs the cap. Where no ray passed (an unseen
+//! face, a shadow), it is merely unseen: it pulls nothing and costs a true match's
+//! expected cost, beyond the edge or out of reach alike, so no view gains by bringing its
+//! unseen faces within reach of the target's rim — without free space the cap out of
+//! reach against the expected cost beyond the edge rewarded exactly that, and a box's
+//! views slid along its top by up to 16 mm at three times the scenes' errors.
+//!
+//! The whole data term is a function of the poses alone, which is what lets the solver
+//! reject any step that raises it.
 //!
 //! Work is split into fixed chunks of (pair, source points), summed in chunk order: the
 //! result is identical at any thread count.
@@ -31,6 +43,8 @@
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Point3, Vector3, Vector6};
 use rayon::prelude::*;
 
+#[cfg(doc)]
+use super::FreeSpace;
 use super::map_correspondences::PairNearest;
 use super::map_view::MapView;
 use crate::math::Pose;
@@ -264,26 +278,50 @@ fn chunk_sums(
         }
         let i = k * pair.stride;
         let local = src.tree.points()[i];
+        let x = ps * local;
+        // Whether the target's sensor saw empty space where the point lies, if known (see
+        // `FreeSpace`): at the point and one σ of its own noise farther along its ray, so
+        // that the noise alone does not put a point of a surface next to the target's
+        // free space (a silhouette seen at grazing) into it.
+        let seen_through = || {
+            dst.free_space.as_ref().map(|f| {
+                let deeper = x + ps.rotation * src.rays[i] * src.sigmas[i];
+                f.contains(&pt.inverse_transform_point(&x))
+                    && f.contains(&pt.inverse_transform_point(&deeper))
+            })
+        };
         let Some((j, _)) = nearest.entries()[k].within(kernel.max_distance) else {
-            s.cost += pair.weight * kernel.outlier_cost();
+            // Out of reach: an outlier, unless the target's sensor never looked there.
+            s.cost += pair.weight
+                * match seen_through() {
+                    Some(false) => kernel.cost(1.0).0,
+                    _ => kernel.outlier_cost(),
+                };
             continue;
         };
         let surfel = &dst.surfels[j];
-        let x = ps * local;
         let beyond = surfel.boundary.is_some_and(|out| {
             let offset = pt.inverse_transform_point(&x) - dst.tree.points()[j];
             offset.dot(&out) > 0.0
         });
-        if beyond {
-            // Beyond the edge of what the target saw (see `MapView`): no pull, and the
-            // cost a true match is expected to have (m² = its constrained dimensions), so
-            // sliding a point off the edge neither gains nor loses.
+        // Beyond the edge where the target's sensor saw through: the point contradicts
+        // the target, and is pulled back onto the edge point itself (point-to-point).
+        let contradicts = beyond && seen_through() == Some(true);
+        if beyond && !contradicts {
+            // Beyond the edge of what the target saw (see `MapView`), where it did not see
+            // empty space: no pull, and the cost a true match is expected to have (m² =
+            // its constrained dimensions), so sliding a point off the edge neither gains
+            // nor loses.
             let dims = if surfel.normal.is_some() { 1.0 } else { 3.0 };
             s.cost += pair.weight * kernel.cost(dims).0;
             continue;
         }
-        let y = pt * surfel.position;
-        if let Some(n) = surfel.normal.filter(|_| dst.rays[j] != Vector3::zeros()) {
+        let (y, normal) = if contradicts {
+            (pt * dst.tree.points()[j], None)
+        } else {
+            (pt * surfel.position, surfel.normal)
+        };
+        if let Some(n) = normal.filter(|_| dst.rays[j] != Vector3::zeros()) {
             let to_eye = eye - y;
             if (pt.rotation * n).dot(&to_eye) < -MIN_FACING * to_eye.norm() {
                 s.cost += pair.weight * kernel.outlier_cost();
@@ -295,7 +333,7 @@ fn chunk_sums(
         let mut cov = ray_covariance(&(ps.rotation * src.rays[i]), var_x)
             + ray_covariance(&(pt.rotation * dst.rays[j]), surfel.variance)
             + Matrix3::identity() * floor;
-        cov += match surfel.normal {
+        cov += match normal {
             Some(n) => {
                 let n = pt.rotation * n;
                 (Matrix3::identity() - n * n.transpose()) * plane_slack

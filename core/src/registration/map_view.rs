@@ -23,6 +23,7 @@ use std::num::NonZeroUsize;
 use nalgebra::{Matrix3, Point3, Vector3};
 use rayon::prelude::*;
 
+use super::free_space::FreeSpace;
 use super::view_tree::ViewTree;
 use super::{RangeNoise, RegistrationError};
 use crate::cloud::PointCloud;
@@ -69,6 +70,9 @@ pub(crate) struct MapView {
     /// The sensor origin (mean of the `origins` column), else the centroid (view frame):
     /// the centre of the view's pose correction.
     pub centre: Point3<f64>,
+    /// Where this view's sensor saw empty space (view frame), when known: see
+    /// [`FreeSpace`].
+    pub free_space: Option<FreeSpace>,
 }
 
 impl MapView {
@@ -133,6 +137,7 @@ impl MapView {
             surfels,
             spacing,
             centre,
+            free_space: None,
         })
     }
 

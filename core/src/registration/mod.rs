@@ -45,6 +45,7 @@
 //! count.
 
 mod error;
+mod free_space;
 mod gpa;
 mod icp;
 mod independent_sets;
@@ -67,6 +68,7 @@ mod view_model;
 mod view_tree;
 
 pub use error::RegistrationError;
+pub use free_space::FreeSpace;
 pub use icp::align;
 pub use map_preparation::MapPreparation;
 pub use normals::estimate_normals;

@@ -34,6 +34,12 @@ pub struct Registration {
     /// camera (and the joint offsets) from every object's registration, then register
     /// each object again from the calibrated poses. Default true.
     pub calibrate_hand_eye: bool,
+    /// Give the model's MAP registration the laser sweep's free space around each
+    /// object (where its rays passed before they hit something): a camera point beyond
+    /// the edge of the laser cluster is pulled back where the laser saw through to the
+    /// table and left alone where the laser never looked. Default true; false is the
+    /// previous release's data term (boundary rejection alone), for comparison.
+    pub free_space: bool,
     /// Run the paper's p-ICP-GPA and sequential ICP beside the model's MAP registration,
     /// for the report's comparison (`error_pgpa`, `error_icp`) and Table III. They do not
     /// change the model; turning them off makes an episode several times cheaper in CPU
@@ -52,6 +58,7 @@ impl Default for Registration {
             max_correction_m: 0.03,
             align_to_workcell: true,
             calibrate_hand_eye: true,
+            free_space: true,
             baselines: true,
         }
     }
