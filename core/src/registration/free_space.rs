@@ -12,10 +12,13 @@
 //! "Fully automatic registration of multiple 3D data sets", IVC 2003).
 //!
 //! Each ray that crosses the region of interest is sampled every half `radius` from where
-//! it enters the region to `margin` short of its hit (the sensor's noise along the ray);
-//! a point is in free space when a sample lies within `radius` of it. With `radius` a
-//! little over half the rays' spacing, the samples cover the space between neighbouring
-//! rays and reach past the outermost ray by less than half a spacing.
+//! it enters the region to `margin` short of its hit (the sensor's noise along the ray),
+//! and every cell of a grid of half `radius` whose centre lies within `radius` of a sample
+//! is marked free: a point is in free space when its cell is marked (within `radius` of a
+//! ray, to the cell's half diagonal). With `radius` a little over half the rays' spacing,
+//! the marks cover the space between neighbouring rays and reach past the outermost ray by
+//! less than half a spacing. The test is one bit lookup, however many rays there are; the
+//! grid's memory is one bit a cell (a 20 cm region at the laser's ~3 mm spacing: ~1 MB).
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::{Point3, Vector3};
@@ -34,13 +37,17 @@ const TWO: std::num::NonZeroUsize = std::num::NonZeroUsize::new(2).unwrap();
 /// Samples per ray at most (a ray grazing a long region is cut short there).
 const MAX_SAMPLES_PER_RAY: usize = 4096;
 
-/// Where a sensor's rays passed, within an axis-aligned region.
+/// Cells of the grid at most (2²⁸ bits: 32 MiB); a larger region gets coarser cells.
+const MAX_CELLS: f64 = 268_435_456.0;
+
+/// Where a sensor's rays passed, within an axis-aligned region: one bit per cell.
 pub struct FreeSpace {
-    tree: Option<ImmutableKdTree<f64, 3>>,
+    bits: Vec<u64>,
+    dims: [usize; 3],
+    cell: f64,
     samples: usize,
     radius: f64,
     lo: Point3<f64>,
-    hi: Point3<f64>,
 }
 
 impl std::fmt::Debug for FreeSpace {
@@ -48,9 +55,10 @@ impl std::fmt::Debug for FreeSpace {
         f.debug_struct("FreeSpace")
             .field("samples", &self.samples)
             .field("radius", &self.radius)
+            .field("cell", &self.cell)
+            .field("dims", &self.dims)
             .field("lo", &self.lo)
-            .field("hi", &self.hi)
-            .finish()
+            .finish_non_exhaustive()
     }
 }
 
@@ -108,7 +116,17 @@ impl FreeSpace {
             });
         }
         let step = 0.5 * radius;
-        let mut coords: Vec<[f64; 3]> = Vec::new();
+        let size = (hi - lo).sup(&Vector3::zeros());
+        let cell = step.max((size.x * size.y * size.z / MAX_CELLS).cbrt());
+        let dims = [0, 1, 2].map(|a| ((size[a] / cell).ceil() as usize).max(1));
+        let mut space = Self {
+            bits: vec![0; (dims[0] * dims[1] * dims[2]).div_ceil(64)],
+            dims,
+            cell,
+            samples: 0,
+            radius,
+            lo,
+        };
         for (o, h) in origins.iter().zip(hits) {
             let Some((enter, leave)) = clip(o, h, &lo, &hi) else {
                 continue;
@@ -120,31 +138,50 @@ impl FreeSpace {
             }
             let u: Vector3<f64> = (h - o) / length;
             let n = (((end - enter) / step).floor() as usize + 1).min(MAX_SAMPLES_PER_RAY);
-            coords.extend((0..n).map(|k| {
-                let p = o + u * (end - k as f64 * step);
-                [p.x, p.y, p.z]
-            }));
+            for k in 0..n {
+                space.mark(&(o + u * (end - k as f64 * step)));
+            }
+            space.samples += n;
         }
-        let samples = coords.len();
-        let tree = if coords.is_empty() {
-            None
-        } else {
-            Some(
-                ImmutableKdTree::<f64, 3>::builder()
-                    .build_from_slice(&coords)
-                    .map_err(|e| RegistrationError::KdTree {
-                        view: 0,
-                        message: e.to_string(),
-                    })?,
-            )
+        Ok(space)
+    }
+
+    /// Marks every cell whose centre lies within `radius` of `sample`: per column of
+    /// cells along z, the run of centres within the ball's chord there.
+    fn mark(&mut self, sample: &Point3<f64>) {
+        let (r, cell) = (self.radius, self.cell);
+        // Cell centres along axis `a` within [from, to] (metres): their index range.
+        let cells = |a: usize, from: f64, to: f64| {
+            let first = ((from - self.lo[a]) / cell - 0.5).ceil().max(0.0);
+            let last = ((to - self.lo[a]) / cell - 0.5)
+                .floor()
+                .min(self.dims[a] as f64 - 1.0);
+            (first as usize, last as isize)
         };
-        Ok(Self {
-            tree,
-            samples,
-            radius,
-            lo,
-            hi,
-        })
+        let centre = |a: usize, i: usize| self.lo[a] + (i as f64 + 0.5) * cell;
+        let (x0, x1) = cells(0, sample.x - r, sample.x + r);
+        let (y0, y1) = cells(1, sample.y - r, sample.y + r);
+        for i in (x0..).take_while(|&i| i as isize <= x1) {
+            let dx = centre(0, i) - sample.x;
+            for j in (y0..).take_while(|&j| j as isize <= y1) {
+                let dy = centre(1, j) - sample.y;
+                let chord = r * r - dx * dx - dy * dy;
+                if chord < 0.0 {
+                    continue;
+                }
+                let h = chord.sqrt();
+                let (z0, z1) = cells(2, sample.z - h, sample.z + h);
+                for k in (z0..).take_while(|&k| k as isize <= z1) {
+                    let bit = self.bit([i, j, k]);
+                    self.bits[bit / 64] |= 1 << (bit % 64);
+                }
+            }
+        }
+    }
+
+    /// The bit of cell `index` (z fastest: a column's run is contiguous).
+    fn bit(&self, index: [usize; 3]) -> usize {
+        (index[0] * self.dims[1] + index[1]) * self.dims[2] + index[2]
     }
 
     /// [`from_rays`](Self::from_rays) of a scan cloud's points and their sensor origins;
@@ -217,20 +254,18 @@ impl FreeSpace {
         .map(Some)
     }
 
-    /// Whether `p` lies where a ray passed (within `radius` of one, inside the region).
+    /// Whether `p` lies where a ray passed: its cell (inside the region) is marked.
     pub fn contains(&self, p: &Point3<f64>) -> bool {
-        let Some(tree) = &self.tree else {
-            return false;
-        };
-        let inside = (0..3).all(|a| p[a] >= self.lo[a] && p[a] <= self.hi[a]);
-        if !inside {
-            return false;
+        let mut index = [0usize; 3];
+        for a in 0..3 {
+            let i = ((p[a] - self.lo[a]) / self.cell).floor();
+            if i.is_nan() || i < 0.0 || i >= self.dims[a] as f64 {
+                return false;
+            }
+            index[a] = i as usize;
         }
-        let found = tree
-            .query(&[p.x, p.y, p.z])
-            .nearest_one::<SquaredEuclidean<f64>>()
-            .execute();
-        found.distance <= self.radius * self.radius
+        let bit = self.bit(index);
+        self.bits[bit / 64] & (1 << (bit % 64)) != 0
     }
 
     /// The number of samples along the rays.
