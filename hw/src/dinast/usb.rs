@@ -4,7 +4,7 @@
 
 use super::transport::{ControlSetup, DinastTransport, TransportError};
 use nbv_core::rig::RigError;
-use rusb::{Device, DeviceHandle, Direction, GlobalContext, TransferType};
+use rusb::{Context, Device, DeviceHandle, Direction, TransferType, UsbContext};
 use std::fmt;
 use std::str::FromStr;
 use std::time::Duration;
@@ -136,7 +136,7 @@ impl From<rusb::Error> for TransportError {
 
 /// The camera over libusb, interface 0 claimed.
 pub struct UsbTransport {
-    handle: DeviceHandle<GlobalContext>,
+    handle: DeviceHandle<Context>,
     bulk_in: u8,
 }
 
@@ -152,13 +152,13 @@ fn usb(step: &'static str) -> impl FnOnce(rusb::Error) -> UsbOpenError {
     move |source| UsbOpenError::Usb { step, source }
 }
 
-fn is_ipa1110(device: &Device<GlobalContext>) -> bool {
+fn is_ipa1110(device: &Device<Context>) -> bool {
     device
         .device_descriptor()
         .is_ok_and(|d| d.vendor_id() == VENDOR_ID && d.product_id() == PRODUCT_ID)
 }
 
-fn first_bulk_in(device: &Device<GlobalContext>) -> Result<u8, UsbOpenError> {
+fn first_bulk_in(device: &Device<Context>) -> Result<u8, UsbOpenError> {
     let config = device
         .active_config_descriptor()
         .map_err(usb("reading the configuration descriptor"))?;
@@ -182,7 +182,10 @@ impl UsbTransport {
     /// # Ok::<(), nbv_hw::dinast::UsbOpenError>(())
     /// ```
     pub fn open(selection: UsbSelection) -> Result<Self, UsbOpenError> {
-        let list = rusb::devices().map_err(usb("listing USB devices"))?;
+        // A context of its own: rusb's global one panics where libusb cannot start (a
+        // machine or container without USB), where this is an error to report.
+        let context = Context::new().map_err(usb("starting libusb"))?;
+        let list = context.devices().map_err(usb("listing USB devices"))?;
         let cameras: Vec<_> = list.iter().filter(is_ipa1110).collect();
         let chosen = match selection {
             UsbSelection::Nth(n) => cameras.get(n),
