@@ -184,21 +184,6 @@ impl FreeSpace {
         (index[0] * self.dims[1] + index[1]) * self.dims[2] + index[2]
     }
 
-    /// [`from_rays`](Self::from_rays) of a scan cloud's points and their sensor origins;
-    /// `Ok(None)` for a cloud without origins.
-    pub fn from_cloud(
-        cloud: &PointCloud,
-        lo: Point3<f64>,
-        hi: Point3<f64>,
-        radius: f64,
-        margin: f64,
-    ) -> Result<Option<Self>, RegistrationError> {
-        let Some(origins) = &cloud.origins else {
-            return Ok(None);
-        };
-        Self::from_rays(origins, &cloud.points, lo, hi, radius, margin).map(Some)
-    }
-
     /// The free space of a scan cloud (points and their sensor origins) within `[lo,
     /// hi]`, tested within [`RADIUS_PER_SPACING`] of the median gap between neighbouring
     /// hits in the region, each ray ending `margin` short of its hit. `Ok(None)` for a
