@@ -55,13 +55,9 @@ pub fn sweep_free_space(
     cluster: &PointCloud,
     config: &ExploreConfig,
 ) -> Result<Option<FreeSpace>, RegistrationError> {
-    let Some(first) = cluster.points.first() else {
+    let Some((lo, hi)) = cluster.bounds() else {
         return Ok(None);
     };
-    let (lo, hi) = cluster
-        .points
-        .iter()
-        .fold((*first, *first), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
     let reach = nalgebra::Vector3::repeat(config.registration.max_correspondence_distance);
     let range = cluster
         .origin_centroid()

@@ -279,6 +279,8 @@ fn chunk_sums(
         let i = k * pair.stride;
         let local = src.tree.points()[i];
         let x = ps * local;
+        // The point in the target's frame, where its surfels and free space are.
+        let x_target = pt.inverse_transform_point(&x);
         // Whether the target's sensor saw empty space where the point lies, if known (see
         // `FreeSpace`): at the point and one σ of its own noise farther along its ray, so
         // that the noise alone does not put a point of a surface next to the target's
@@ -286,8 +288,7 @@ fn chunk_sums(
         let seen_through = || {
             dst.free_space.as_ref().map(|f| {
                 let deeper = x + ps.rotation * src.rays[i] * src.sigmas[i];
-                f.contains(&pt.inverse_transform_point(&x))
-                    && f.contains(&pt.inverse_transform_point(&deeper))
+                f.contains(&x_target) && f.contains(&pt.inverse_transform_point(&deeper))
             })
         };
         let Some((j, _)) = nearest.entries()[k].within(kernel.max_distance) else {
@@ -300,10 +301,9 @@ fn chunk_sums(
             continue;
         };
         let surfel = &dst.surfels[j];
-        let beyond = surfel.boundary.is_some_and(|out| {
-            let offset = pt.inverse_transform_point(&x) - dst.tree.points()[j];
-            offset.dot(&out) > 0.0
-        });
+        let beyond = surfel
+            .boundary
+            .is_some_and(|out| (x_target - dst.tree.points()[j]).dot(&out) > 0.0);
         // Beyond the edge where the target's sensor saw through: the point contradicts
         // the target, and is pulled back onto the edge point itself (point-to-point).
         let contradicts = beyond && seen_through() == Some(true);
