@@ -12,7 +12,9 @@
 //! `VIEW_TO_VIEW=1` adds the MAP's view-to-view terms (the scene's setting is off);
 //! `TRUTH_POINTS=1` replaces every point by its true position (no noise); `FROM_TRUTH=1`
 //! also starts the MAP at the true poses without priors (does the data term keep them?)
-//! and prints the truth's χ² under each view's prior; `SET="errors.scale=3 …"` applies the
+//! and prints the truth's χ² under each view's prior, and with `START_OFFSET="rx,ry,rz,
+//! tx,ty,tz"` (degrees, millimetres) starts every other view that far off its truth (does
+//! the data term bring it back?); `NO_PRIOR=1` drops every view's prior; `SET="errors.scale=3 …"` applies the
 //! episode's `--set` overrides to the scene; `MAX_STAGES=n` and `MATCH_SIGMAS=x` set the
 //! MAP's masking stages and the σ within which a point counts as matched; `DECOMPOSE=1`
 //! prints each view's residual misalignment (rotation, shift of its true centroid, world
@@ -97,9 +99,14 @@ fn main() -> anyhow::Result<()> {
         None => println!("free space: none"),
     }
     let initial = vec![Pose::identity(); views.len()];
-    let models = config
+    let mut models = config
         .uncertainty
         .view_models(&views, config.frames_per_view);
+    if std::env::var_os("NO_PRIOR").is_some() {
+        for m in &mut models {
+            m.prior = None;
+        }
+    }
     println!("{:?}", config.uncertainty);
     let per_view = |poses: &[Pose]| -> Vec<f64> {
         views
@@ -194,8 +201,8 @@ fn main() -> anyhow::Result<()> {
         show(name, &r.poses, t.elapsed().as_secs_f64());
         if let MethodReport::Map(m) = &r.report {
             println!(
-                "           {} steps, {} evaluations: {}",
-                m.iterations, m.evaluations, m.verdict
+                "           {} steps, {} evaluations: {} (objective {:.1} -> {:.1})",
+                m.iterations, m.evaluations, m.verdict, m.objective_initial, m.objective_final
             );
         }
     }
@@ -210,6 +217,45 @@ fn main() -> anyhow::Result<()> {
                 anchor_fit.inverse() * fit
             })
             .collect();
+        // `START_OFFSET="rx,ry,rz,tx,ty,tz"` (degrees, millimetres, world axes): every
+        // other view starts that far off its truth, turned about its centroid.
+        let start: Vec<Pose> = match std::env::var("START_OFFSET") {
+            Ok(text) => {
+                let v: Vec<f64> = text
+                    .split(',')
+                    .map(str::trim)
+                    .map(str::parse)
+                    .collect::<Result<_, _>>()
+                    .map_err(|e| anyhow::anyhow!("START_OFFSET={text:?}: {e}"))?;
+                let [rx, ry, rz, tx, ty, tz] = v[..] else {
+                    anyhow::bail!("START_OFFSET={text:?}: six numbers expected");
+                };
+                let turn = nalgebra::Vector3::new(rx, ry, rz).map(f64::to_radians);
+                let shift = nalgebra::Vector3::new(tx, ty, tz) * 1e-3;
+                truth
+                    .iter()
+                    .zip(&views)
+                    .enumerate()
+                    .map(|(k, (p, v))| {
+                        if k == 0 {
+                            return *p;
+                        }
+                        let c = p * nalgebra::Point3::from(
+                            v.points
+                                .iter()
+                                .map(|x| x.coords)
+                                .sum::<nalgebra::Vector3<f64>>()
+                                / v.len() as f64,
+                        );
+                        let off = nalgebra::Translation3::from(c.coords + shift)
+                            * nalgebra::UnitQuaternion::from_scaled_axis(turn)
+                            * nalgebra::Translation3::from(-c.coords);
+                        off * p
+                    })
+                    .collect()
+            }
+            Err(_) => truth.clone(),
+        };
         show("truth", &truth, 0.0);
         let chi: Vec<String> = views
             .iter()
@@ -248,8 +294,11 @@ fn main() -> anyhow::Result<()> {
             reference: 0,
             ..config.registration.clone()
         };
-        let r = register_with_models(&views, &truth, &free, &params)?;
-        show("map@truth", &r.poses, 0.0);
+        if start != truth {
+            show("start", &start, 0.0);
+        }
+        let r = register_with_models(&views, &start, &free, &params)?;
+        show("map@start", &r.poses, 0.0);
         if let MethodReport::Map(m) = &r.report {
             println!(
                 "           {} steps: obj {} -> {}",

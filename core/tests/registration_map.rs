@@ -2,8 +2,9 @@
 //! comes back within the noise bound; a view without overlap keeps its prior and says
 //! so; a symmetric object keeps the prior's rotation about its axis; neither the surface
 //! past the reference's edge nor a box's edges under noise drag a view off the truth; the
-//! laser's free space pulls a view slid along a box's top back; the objective never
-//! rises; the result is the same at any thread count.
+//! laser's free space pulls a view slid along a box's top back; matching along the
+//! camera's rays agrees with the nearest point on noise-free views and brings a noisy view of a thin
+//! cylinder closer; the objective never rises; the result is the same at any thread count.
 
 use nalgebra::{Isometry3, Point3, Unit, UnitQuaternion, Vector3};
 use nbv_core::cloud::PointCloud;
@@ -245,6 +246,121 @@ fn a_noisy_view_of_a_boxs_edges_stays_at_the_truth() {
     }
     let mean = ends.iter().sum::<f64>() / ends.len() as f64;
     assert!(mean < 1.2e-3, "moved {ends:?} m off the truth");
+}
+
+/// Points of an upright cylinder of radius 2 cm (a handle), 12 cm tall, between azimuths
+/// `from` and `to` (degrees, 0 facing −y), every 2.5 mm.
+fn handle(from: f64, to: f64) -> Vec<Point3<f64>> {
+    let (radius, height, step) = (0.02, 0.12, 0.0025);
+    let arc = (to - from).to_radians() * radius;
+    let (na, nz) = ((arc / step) as usize, (height / step) as usize);
+    (0..=na)
+        .flat_map(|i| (0..=nz).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            let a = (from + (to - from) * i as f64 / na as f64).to_radians();
+            Point3::new(
+                radius * a.sin(),
+                -radius * a.cos(),
+                height * j as f64 / nz as f64,
+            )
+        })
+        .collect()
+}
+
+/// An accurate reference of a handle's front and a camera view of its side (noise
+/// `sigma` along the camera's rays), the camera's points and origins given in the camera's
+/// own frame (reported pose `initial[1]`, off the truth by `error`).
+fn handle_views(sigma: f64, seed: u64, error: &Pose) -> (Vec<PointCloud>, Vec<Pose>) {
+    let reference = view(
+        handle(-70.0, 70.0),
+        Point3::new(0.0, -0.9, 0.5),
+        0.0005,
+        seed,
+        &Pose::identity(),
+    );
+    let mut camera = view(
+        handle(-20.0, 120.0),
+        Point3::new(0.25, -0.3, 0.2),
+        sigma,
+        seed + 100,
+        error,
+    );
+    let mount = Pose::from_parts(
+        Vector3::new(0.25, -0.3, 0.2).into(),
+        UnitQuaternion::from_euler_angles(2.0, -0.4, 0.9),
+    );
+    camera.transform(&mount.inverse());
+    (vec![reference, camera], vec![Pose::identity(), mount])
+}
+
+/// Noise-free points of a view started at the truth: matched where their rays cross the
+/// reference (`along_rays`), they end where matched at their nearest reference points —
+/// the ray, the crossing and the surfel in the right frames. (Both move the view 0.4 mm,
+/// measured: a surfel is the mean of 16 points, which lies inside a 2 cm cylinder.)
+#[test]
+fn matching_along_the_rays_agrees_with_the_nearest_on_noise_free_views() {
+    let free = |sigma| ViewModel {
+        noise: RangeNoise::constant(sigma),
+        prior: None,
+    };
+    let models = vec![free(0.0005), free(0.004)];
+    let (views, initial) = handle_views(0.0, 31, &Pose::identity());
+    let end = |along_rays: bool| {
+        let mut params = params();
+        params.map.along_rays = along_rays;
+        let r = register_with_models(&views, &initial, &models, &params).unwrap();
+        assert!(map_report(&r).views[1].inliers > 300);
+        alignment_error(&views[1..], &r.poses[1..]).mean
+    };
+    let (nearest, along) = (end(false), end(true));
+    assert!(
+        nearest < 6e-4,
+        "nearest: {:.3} mm off the truth",
+        nearest * 1e3
+    );
+    assert!(
+        (along - nearest).abs() < 5e-5,
+        "along the rays {:.3} mm, nearest {:.3} mm off the truth",
+        along * 1e3,
+        nearest * 1e3
+    );
+}
+
+/// A camera view of a thin cylinder (6 mm of noise along its rays) reported 3 mm off
+/// across the axis, without a prior: matched at each point's nearest reference point the
+/// view settles short of the truth; matched where the rays cross the reference it comes
+/// closer. Mean of three seeds, measured: 2.9 mm → 2.11 mm nearest, 1.90 mm along the
+/// rays. (Not every direction gains on this cylinder: 3 mm along −y, towards the
+/// reference's sensor, ends 1.51 mm nearest and 2.79 mm along the rays — one reason
+/// `along_rays` is not yet the default.)
+#[test]
+fn matching_along_the_rays_brings_a_view_of_a_thin_cylinder_closer() {
+    let free = |sigma| ViewModel {
+        noise: RangeNoise::constant(sigma),
+        prior: None,
+    };
+    let models = vec![free(0.0005), free(0.006)];
+    let error = Pose::translation(0.003, 0.0, 0.0);
+    let mean_end = |along_rays: bool| {
+        let mut params = params();
+        params.map.along_rays = along_rays;
+        let ends: Vec<f64> = [21, 22, 23]
+            .into_iter()
+            .map(|seed| {
+                let (views, initial) = handle_views(0.006, seed, &error);
+                let r = register_with_models(&views, &initial, &models, &params).unwrap();
+                assert!(map_report(&r).accepted, "{}", map_report(&r).verdict);
+                alignment_error(&views[1..], &r.poses[1..]).mean
+            })
+            .collect();
+        ends.iter().sum::<f64>() / ends.len() as f64
+    };
+    let (nearest, along) = (mean_end(false), mean_end(true));
+    assert!(
+        along < 0.95 * nearest,
+        "along the rays {along}, nearest {nearest}"
+    );
+    assert!(along < 2.5e-3, "along the rays {along}");
 }
 
 #[test]

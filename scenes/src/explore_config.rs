@@ -190,6 +190,7 @@ impl Scene {
                 // centimetre noise, view-to-view terms pull them off (`MapParams`).
                 map: MapParams {
                     view_to_view: false,
+                    along_rays: self.registration.along_rays,
                     ..MapParams::default()
                 },
                 ..RegistrationParams::default()

@@ -94,6 +94,7 @@ pub(crate) fn run(
         cap: map.outlier_sigmas,
         floor: map.floor_sigma,
         max_distance: params.max_correspondence_distance,
+        along_rays: map.along_rays,
     };
     let reference = params.reference;
     let pairs = select_pairs(

@@ -129,6 +129,12 @@ pub struct MapParams {
     pub pair_points: usize,
     /// Neighbours of each point's surface element (mean and normal).
     pub surface_neighbours: usize,
+    /// Match each point where its viewing ray crosses the target's surface rather than to
+    /// the nearest target point (projective association): a camera point displaced along its ray by the
+    /// noise finds, on a curved target, a nearest point whose plane tilts towards it, and
+    /// the view settles short of the truth. Default false (the nearest point), until
+    /// Table III is measured with it.
+    pub along_rays: bool,
 }
 
 impl Default for MapParams {
@@ -146,6 +152,7 @@ impl Default for MapParams {
             view_to_view: true,
             pair_points: 600,
             surface_neighbours: 16,
+            along_rays: false,
         }
     }
 }
