@@ -133,10 +133,16 @@ fn a_known_offset_returns_to_truth_within_the_noise_bound() {
     assert_eq!(r.poses[0], initial[0]);
 }
 
-/// Points of a bumpy upright cylinder (radius 4 cm, 10 cm tall) between azimuths `from`
-/// and `to` (degrees, 0 facing −y), every ~3 mm.
-fn cylinder(from: f64, to: f64) -> Vec<Point3<f64>> {
-    let (radius, height, step) = (0.04, 0.1, 0.003);
+/// Points of an upright cylinder about the z axis (`radius`, `height`; its radius
+/// rippled by `bump`) between azimuths `from` and `to` (degrees, 0 facing −y), every
+/// ~`step`.
+fn cylinder_band(
+    radius: f64,
+    height: f64,
+    step: f64,
+    bump: f64,
+    (from, to): (f64, f64),
+) -> Vec<Point3<f64>> {
     let arc = (to - from).to_radians() * radius;
     let (na, nz) = ((arc / step) as usize, (height / step) as usize);
     (0..=na)
@@ -144,10 +150,15 @@ fn cylinder(from: f64, to: f64) -> Vec<Point3<f64>> {
         .map(|(i, j)| {
             let a = (from + (to - from) * i as f64 / na as f64).to_radians();
             let z = height * j as f64 / nz as f64;
-            let r = radius + 0.003 * (5.0 * a).sin() * (40.0 * z).cos();
+            let r = radius + bump * (5.0 * a).sin() * (40.0 * z).cos();
             Point3::new(r * a.sin(), -r * a.cos(), z)
         })
         .collect()
+}
+
+/// A bumpy cylinder (radius 4 cm, 10 cm tall), every ~3 mm.
+fn cylinder(from: f64, to: f64) -> Vec<Point3<f64>> {
+    cylinder_band(0.04, 0.1, 0.003, 0.003, (from, to))
 }
 
 /// A camera view that sees around an object past the edge of what the reference saw
@@ -248,23 +259,9 @@ fn a_noisy_view_of_a_boxs_edges_stays_at_the_truth() {
     assert!(mean < 1.2e-3, "moved {ends:?} m off the truth");
 }
 
-/// Points of an upright cylinder of radius 2 cm (a handle), 12 cm tall, between azimuths
-/// `from` and `to` (degrees, 0 facing −y), every 2.5 mm.
+/// A smooth cylinder of radius 2 cm (a handle), 12 cm tall, every 2.5 mm.
 fn handle(from: f64, to: f64) -> Vec<Point3<f64>> {
-    let (radius, height, step) = (0.02, 0.12, 0.0025);
-    let arc = (to - from).to_radians() * radius;
-    let (na, nz) = ((arc / step) as usize, (height / step) as usize);
-    (0..=na)
-        .flat_map(|i| (0..=nz).map(move |j| (i, j)))
-        .map(|(i, j)| {
-            let a = (from + (to - from) * i as f64 / na as f64).to_radians();
-            Point3::new(
-                radius * a.sin(),
-                -radius * a.cos(),
-                height * j as f64 / nz as f64,
-            )
-        })
-        .collect()
+    cylinder_band(0.02, 0.12, 0.0025, 0.0, (from, to))
 }
 
 /// An accurate reference of a handle's front and a camera view of its side (noise
