@@ -80,6 +80,14 @@ fn models(n: usize, camera_sigma: f64, prior: PosePrior) -> Vec<ViewModel> {
         .collect()
 }
 
+/// A view of range noise `sigma` without a prior.
+fn free(sigma: f64) -> ViewModel {
+    ViewModel {
+        noise: RangeNoise::constant(sigma),
+        prior: None,
+    }
+}
+
 fn map_report(r: &Registration) -> &MapReport {
     match &r.report {
         MethodReport::Map(m) => m,
@@ -229,10 +237,6 @@ fn box_faces(side: bool) -> Vec<Point3<f64>> {
 /// reference did not see, next to its edges; without that face, < 0.6 mm each).
 #[test]
 fn a_noisy_view_of_a_boxs_edges_stays_at_the_truth() {
-    let free = |sigma| ViewModel {
-        noise: RangeNoise::constant(sigma),
-        prior: None,
-    };
     let models = vec![free(0.0005), free(0.006)];
     let mut ends = Vec::new();
     for seed in [11, 12, 13] {
@@ -296,10 +300,6 @@ fn handle_views(sigma: f64, seed: u64, error: &Pose) -> (Vec<PointCloud>, Vec<Po
 /// measured: a surfel is the mean of 16 points, which lies inside a 2 cm cylinder.)
 #[test]
 fn matching_along_the_rays_agrees_with_the_nearest_on_noise_free_views() {
-    let free = |sigma| ViewModel {
-        noise: RangeNoise::constant(sigma),
-        prior: None,
-    };
     let models = vec![free(0.0005), free(0.004)];
     let (views, initial) = handle_views(0.0, 31, &Pose::identity());
     let end = |along_rays: bool| {
@@ -332,10 +332,6 @@ fn matching_along_the_rays_agrees_with_the_nearest_on_noise_free_views() {
 /// `along_rays` is not yet the default.)
 #[test]
 fn matching_along_the_rays_brings_a_view_of_a_thin_cylinder_closer() {
-    let free = |sigma| ViewModel {
-        noise: RangeNoise::constant(sigma),
-        prior: None,
-    };
     let models = vec![free(0.0005), free(0.006)];
     let error = Pose::translation(0.003, 0.0, 0.0);
     let mean_end = |along_rays: bool| {
