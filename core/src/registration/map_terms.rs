@@ -8,12 +8,14 @@
 //! where the source's viewing ray crosses the target's surface (projective association, as
 //! depth-camera trackers match along the camera's rays): the crossing of the ray with the
 //! nearest point's plane, and the target point nearest to that crossing, where the ray is
-//! known and both surfels have a normal. The camera's noise lies along its rays and is
-//! centimetres: on a curved target (a handle, a bottle) the nearest point of a displaced
-//! camera point lies off its ray, on a plane tilted towards it, so the residual
-//! understates the view's offset, and views settle millimetres short of the truth
-//! (paper-env1's mallet at seed 7 with only the hand-eye error, without priors: 2.1 mm
-//! nearest, 1.1 mm along the rays). Its residual `e = x − y` (world frame) has the covariance
+//! known and meets the plane at more than ~17°, and the crossing's surfel has a normal and
+//! is not on the boundary. The camera's noise lies along its rays and is centimetres: on a
+//! curved target (a handle, a bottle) the nearest point of a displaced camera point lies
+//! off its ray, on a plane tilted towards it, so the residual understates the view's
+//! offset, and views settle millimetres short of the truth (paper-env1's mallet at seed 7
+//! with only the hand-eye error, without priors: 2.1 mm nearest, 1.1 mm along the rays).
+//!
+//! A correspondence's residual `e = x − y` (world frame) has the covariance
 //! `C = σ_x²·u_x u_xᵀ + σ_y²·u_y u_yᵀ + σ_f²·I + T`: each sensor's range noise along its
 //! own viewing ray `u` (isotropic where the ray is unknown), a floor `σ_f`, and `T` the
 //! freedom to slide along the surface — `L²·(I − n nᵀ)` with `L = d_max` where the target

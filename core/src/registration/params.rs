@@ -130,10 +130,10 @@ pub struct MapParams {
     /// Neighbours of each point's surface element (mean and normal).
     pub surface_neighbours: usize,
     /// Match each point where its viewing ray crosses the target's surface rather than to
-    /// the nearest target point (projective association): a camera point displaced along its ray by the
-    /// noise finds, on a curved target, a nearest point whose plane tilts towards it, and
-    /// the view settles short of the truth. Default false (the nearest point), until
-    /// Table III is measured with it.
+    /// the nearest target point (projective association): a camera point displaced along
+    /// its ray by the noise finds, on a curved target, a nearest point whose plane tilts
+    /// towards it, and the view settles short of the truth. Default false (the nearest
+    /// point), until Table III is measured with it.
     pub along_rays: bool,
 }
 
