@@ -132,8 +132,10 @@ pub struct MapParams {
     /// Match each point where its viewing ray crosses the target's surface rather than to
     /// the nearest target point (projective association): a camera point displaced along
     /// its ray by the noise finds, on a curved target, a nearest point whose plane tilts
-    /// towards it, and the view settles short of the truth. Default false (the nearest
-    /// point), until Table III is measured with it.
+    /// towards it, and the view settles short of the truth. The stages first match
+    /// nearest points until they converge (which captures a view from farther off), then
+    /// go on along the rays from there. Default true; false matches nearest points only
+    /// (the previous release).
     pub along_rays: bool,
 }
 
@@ -152,7 +154,7 @@ impl Default for MapParams {
             view_to_view: true,
             pair_points: 600,
             surface_neighbours: 16,
-            along_rays: false,
+            along_rays: true,
         }
     }
 }
