@@ -333,8 +333,8 @@ fn matching_along_the_rays_agrees_with_the_nearest_on_noise_free_views() {
 /// +x), the view ends 2.10, 2.28, 1.97 mm off nearest and 3.02, 3.41, 2.37 mm along the
 /// rays; 3 mm along −y (towards the reference's sensor) ends 1.96, 1.91, 2.26 mm nearest
 /// and 1.94, 1.61, 2.13 mm along the rays. On the paper scenes' objects matching along
-/// the rays lowers the alignment error (benches/README, "Matching along the camera's
-/// rays"), which is why it is the default.
+/// the rays lowers the alignment error (benches/README, "What limits a camera view's
+/// registration").
 #[test]
 fn matching_along_the_rays_keeps_a_noisy_view_started_at_the_truth() {
     let models = vec![free(0.0005), free(0.006)];

@@ -45,9 +45,9 @@ pub struct Registration {
     /// camera's centimetre noise lies along its rays, and on a curved object the nearest
     /// point of a displaced camera point lies off its ray, on a plane tilted towards it.
     /// The registration converges by nearest points first, then refines along the rays.
-    /// Default true: lower alignment error in Table III and on held-out seeds
-    /// (benches/README, "What limits a camera view's registration"); false matches nearest points
-    /// only (the previous release).
+    /// Default false (nearest points only): true lowers the alignment error in Table III
+    /// and on held-out seeds but costs ~1.6× the registration's time (benches/README,
+    /// "What limits a camera view's registration").
     pub along_rays: bool,
     /// Run the paper's p-ICP-GPA and sequential ICP beside the model's MAP registration,
     /// for the report's comparison (`error_pgpa`, `error_icp`) and Table III. They do not
@@ -68,7 +68,7 @@ impl Default for Registration {
             align_to_workcell: true,
             calibrate_hand_eye: true,
             free_space: true,
-            along_rays: true,
+            along_rays: false,
             baselines: true,
         }
     }
