@@ -24,11 +24,12 @@
 //! poses) and solves again, until no view moves. With
 //! [`MapParams::along_rays`](super::MapParams::along_rays) the first stages match nearest
 //! points and, once they have converged, the next ones match along the camera's rays from
-//! there: nearest matching captures a view from
-//! farther off, matching along the rays removes the bias it leaves on curved objects (at
-//! three and five times the paper scenes' errors, matching along the rays from the start
-//! left 2 of 60 registrations of Table III above 0.3× of their error as acquired, and
-//! one over 10 mm; from the nearest points' solution none).
+//! there: nearest matching captures a view from farther off, matching along the rays
+//! removes the bias it leaves on curved objects (at three and five times the paper scenes'
+//! errors, matching along the rays from the start left 2 of 60 registrations of Table III
+//! above 0.3× of their error as acquired, and one over 10 mm; from the nearest points'
+//! solution none). The rays' stages may run up to `max_stages` again: that is most of the
+//! ~1.6× time the option costs.
 //!
 //! Acceptance: every view's correction must pass the χ² gate of its prior (6 degrees of
 //! freedom); the view farthest beyond it is held at its prior and the rest solved again,

@@ -13,7 +13,8 @@
 //! curved target (a handle, a bottle) the nearest point of a displaced camera point lies
 //! off its ray, on a plane tilted towards it, so the residual understates the view's
 //! offset, and views settle millimetres short of the truth (paper-env1's mallet at seed 7
-//! with only the hand-eye error, without priors: 2.1 mm nearest, 1.1 mm along the rays).
+//! with only the hand-eye error, without priors: 2.1 mm nearest, 1.1 mm along the rays from
+//! the first stage; the stages are `map.rs`'s).
 //!
 //! A correspondence's residual `e = x − y` (world frame) has the covariance
 //! `C = σ_x²·u_x u_xᵀ + σ_y²·u_y u_yᵀ + σ_f²·I + T`: each sensor's range noise along its
