@@ -4,9 +4,10 @@
 //! apart from its times. (tests/cli_explore.rs checks the same on a generated one-object
 //! scene; this is the paper's scene with all its objects, obstacles and failed viewpoints.)
 //!
-//! The episodes are the scene's own, uncapped (up to 16 views per object). In the dev
-//! profile on 2 cores each test took: hybrid 125 s, short-only 60 s (two episodes each,
-//! one at a time); under 4 minutes, so nothing is cut to save time.
+//! The episodes are the scene's own, uncapped (up to 16 views per object). In the test
+//! profile (nbv-core at opt-level 3, see Cargo.toml) on 2 cores both tests together took
+//! 163 s (two episodes each, one at a time, the tests side by side), so nothing is cut to
+//! save time.
 
 mod common;
 
