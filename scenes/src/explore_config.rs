@@ -180,6 +180,7 @@ impl Scene {
             visited: (self.nbv.visited_min_distance, 20f64.to_radians()),
             max_views_per_object: self.nbv.max_views_per_object as usize,
             frames_per_view: self.nbv.frames_per_view as usize,
+            depth_smoothing: self.nbv.depth_smoothing as usize,
             planner,
             obstacles,
             registration: RegistrationParams {

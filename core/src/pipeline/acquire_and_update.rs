@@ -11,6 +11,7 @@ use crate::math::Pose;
 use crate::nbv::InformationGain;
 use crate::rig::{
     DepthCamera, DepthFrame, Rig, RigError, average_frames, depth_frame_to_cloud, sensor_pose,
+    smooth_frame,
 };
 
 /// What one view added.
@@ -43,7 +44,7 @@ pub(super) fn acquire_and_update(
     times: &mut StepTimes,
 ) -> Result<Observation, PipelineError> {
     let (frame, joints, pose) = timed(&mut times.acquisition, || -> Result<_, PipelineError> {
-        let frame = capture_burst(rig.camera, config.frames_per_view)?;
+        let frame = capture_burst(rig.camera, config)?;
         let joints = rig.arm.joints()?;
         let pose = sensor_pose(&rig.robot, &rig.base, &joints, &rig.camera.spec().frame)?;
         let cloud = depth_frame_to_cloud(&frame, rig.camera.spec(), &pose)?;
@@ -75,13 +76,20 @@ pub(super) fn acquire_and_update(
     })
 }
 
-/// `n` frames (at least one) at the camera's current pose, averaged.
+/// `config.frames_per_view` frames (at least one) at the camera's current pose, averaged,
+/// then smoothed by `config.depth_smoothing` ([`smooth_frame`]); a neighbour takes part in
+/// a pixel's fit within three σ of the averaged noise of a depth difference.
 pub(super) fn capture_burst(
     camera: &mut dyn DepthCamera,
-    n: usize,
+    config: &ExploreConfig,
 ) -> Result<DepthFrame, RigError> {
-    let frames = (0..n.max(1))
+    let n = config.frames_per_view.max(1);
+    let frames = (0..n)
         .map(|_| camera.capture())
         .collect::<Result<Vec<_>, _>>()?;
-    average_frames(&frames)
+    let frame = average_frames(&frames)?;
+    let noise = config.uncertainty.camera_noise.averaged(n);
+    Ok(smooth_frame(&frame, config.depth_smoothing, |z| {
+        3.0 * std::f64::consts::SQRT_2 * noise.sigma(z)
+    }))
 }

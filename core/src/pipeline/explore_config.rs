@@ -62,6 +62,9 @@ pub struct ExploreConfig {
     pub visited: (f64, f64),
     /// Depth frames captured and averaged at each viewpoint (1: a single frame).
     pub frames_per_view: usize,
+    /// Half-width (pixels) of the plane fit that smooths each averaged frame
+    /// ([`smooth_frame`](crate::rig::smooth_frame)); 0 leaves it as averaged.
+    pub depth_smoothing: usize,
     /// Hard cap on short-range views per object.
     pub max_views_per_object: usize,
     /// The joint-space planner.

@@ -12,6 +12,7 @@
 mod arm;
 mod depth_camera;
 mod frame_average;
+mod frame_smoothing;
 mod line_scanner;
 mod rig_error;
 mod robot_rig;
@@ -22,6 +23,7 @@ mod truth;
 pub use arm::{Arm, JointPath, Motion, TimedJoints};
 pub use depth_camera::{DepthCamera, DepthCameraSpec, DepthFrame};
 pub use frame_average::average_frames;
+pub use frame_smoothing::smooth_frame;
 pub use line_scanner::{LineScanner, LineScannerSpec, ScanLine};
 pub use rig_error::RigError;
 pub use robot_rig::Rig;
