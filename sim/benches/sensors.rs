@@ -1,12 +1,13 @@
 //! Simulated sensors on paper-env1: one Dinast frame (320×240 rays) 0.3 m above the jug,
-//! cast (the first frame of a burst) and drawn from the cast (the burst's other frames),
-//! one LMS400 line, and the whole phase-1 sweep through the simulated rig (arm motion with
-//! collision checks, 237 lines of 281 rays, the cloud). Throughput is in rays; the real
+//! cast (the first frame of a burst), drawn from the cast (the burst's other frames) and
+//! smoothed as the pipeline smooths an averaged frame; one LMS400 line, and the whole
+//! phase-1 sweep through the simulated rig (arm motion with collision checks, 237 lines of
+//! 281 rays, the cloud). Throughput is in rays; the real
 //! devices cast 190 × 281 = 53,390 rays/s (LMS400) and 76,800 per frame (Dinast).
 
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
-use nbv_core::rig::{LineScanner, acquire_sweep, lines_to_cloud};
+use nbv_core::rig::{LineScanner, acquire_sweep, lines_to_cloud, smooth_frame};
 use nbv_sim::rig::SimRig;
 use nbv_sim::sensors::{AcquisitionId, CameraModel, LaserModel};
 use nbv_sim::world::TwinWorld;
@@ -48,6 +49,17 @@ fn sensors(c: &mut Criterion) {
         b.iter(|| {
             index += 1;
             black_box(camera.draw(&truth, 0.0, AcquisitionId { seed: 1, index }))
+        })
+    });
+    // The pipeline's smoothing of an averaged frame ([nbv] depth_smoothing = 2: the
+    // edge-gated plane fit over 5 × 5 pixels, the gate at eight frames' noise).
+    let frame = camera.draw(&truth, 0.0, id);
+    let sigma = camera.noise.range_sigma_at_1m / 8f64.sqrt();
+    group.bench_function("dinast_frame_smoothed_5x5", |b| {
+        b.iter(|| {
+            black_box(smooth_frame(&frame, 2, |z| {
+                3.0 * std::f64::consts::SQRT_2 * sigma * z
+            }))
         })
     });
 
