@@ -56,11 +56,15 @@ fn sensors(c: &mut Criterion) {
     let frame = camera.draw(&truth, 0.0, id);
     let sigma = camera.noise.range_sigma_at_1m / 8f64.sqrt();
     group.bench_function("dinast_frame_smoothed_5x5", |b| {
-        b.iter(|| {
-            black_box(smooth_frame(&frame, 2, |z| {
-                3.0 * std::f64::consts::SQRT_2 * sigma * z
-            }))
-        })
+        b.iter_batched(
+            || frame.clone(),
+            |frame| {
+                black_box(smooth_frame(frame, 2, |z| {
+                    3.0 * std::f64::consts::SQRT_2 * sigma * z
+                }))
+            },
+            BatchSize::LargeInput,
+        )
     });
 
     let laser = LaserModel::from_scene(&scene.sensors.mid_range);

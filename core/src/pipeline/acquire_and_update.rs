@@ -89,7 +89,7 @@ pub(super) fn capture_burst(
         .collect::<Result<Vec<_>, _>>()?;
     let frame = average_frames(&frames)?;
     let noise = config.uncertainty.camera_noise.averaged(n);
-    Ok(smooth_frame(&frame, config.depth_smoothing, |z| {
+    Ok(smooth_frame(frame, config.depth_smoothing, |z| {
         3.0 * std::f64::consts::SQRT_2 * noise.sigma(z)
     }))
 }

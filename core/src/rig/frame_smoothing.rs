@@ -42,67 +42,69 @@ pub const MIN_NEIGHBOURS: usize = 6;
 ///     })
 ///     .collect();
 /// let frame = DepthFrame { time: 0.0, width: w, height: h, depth, truth: None };
-/// let smooth = smooth_frame(&frame, 2, |_| 0.01);
+/// let smooth = smooth_frame(frame, 2, |_| 0.01);
 /// // Pixel (1, 2): the plane's 0.505 with the noise mostly gone, the edge left out.
 /// let z = smooth.depth[2 * w + 1];
 /// assert!((z - 0.505).abs() < 0.0006, "{z}");
 /// ```
 pub fn smooth_frame(
-    frame: &DepthFrame,
+    mut frame: DepthFrame,
     half: usize,
     gate: impl Fn(f64) -> f64 + Sync,
 ) -> DepthFrame {
     let (w, h) = (frame.width, frame.height);
     if half == 0 || w == 0 || h == 0 {
-        return frame.clone();
+        return frame;
     }
-    let at = |u: usize, v: usize| f64::from(frame.depth[v * w + u]);
-    let mut depth = frame.depth.clone();
-    depth.par_chunks_mut(w).enumerate().for_each(|(v, row)| {
-        for (u, out) in row.iter_mut().enumerate() {
-            let z0 = at(u, v);
-            if !z0.is_finite() {
-                continue;
-            }
-            let g = gate(z0);
-            // Normal equations of z = a + b·du + c·dv.
-            let mut s = [0.0f64; 9]; // n, Σdu, Σdv, Σdu², Σdudv, Σdv², Σdz, Σdz·du, Σdz·dv (dz from z0)
-            for y in v.saturating_sub(half)..(v + half + 1).min(h) {
-                for x in u.saturating_sub(half)..(u + half + 1).min(w) {
-                    let dz = at(x, y) - z0;
-                    if !dz.is_finite() || dz.abs() > g {
-                        continue;
+    let source = frame.depth.clone();
+    let at = |u: usize, v: usize| f64::from(source[v * w + u]);
+    frame
+        .depth
+        .par_chunks_mut(w)
+        .enumerate()
+        .for_each(|(v, row)| {
+            for (u, out) in row.iter_mut().enumerate() {
+                let z0 = at(u, v);
+                if !z0.is_finite() {
+                    continue;
+                }
+                let g = gate(z0);
+                // Normal equations of z = a + b·du + c·dv.
+                let mut s = [0.0f64; 9]; // n, Σdu, Σdv, Σdu², Σdudv, Σdv², Σdz, Σdz·du, Σdz·dv (dz from z0)
+                for y in v.saturating_sub(half)..(v + half + 1).min(h) {
+                    for x in u.saturating_sub(half)..(u + half + 1).min(w) {
+                        let dz = at(x, y) - z0;
+                        if !dz.is_finite() || dz.abs() > g {
+                            continue;
+                        }
+                        let (du, dv) = (x as f64 - u as f64, y as f64 - v as f64);
+                        s[0] += 1.0;
+                        s[1] += du;
+                        s[2] += dv;
+                        s[3] += du * du;
+                        s[4] += du * dv;
+                        s[5] += dv * dv;
+                        s[6] += dz;
+                        s[7] += dz * du;
+                        s[8] += dz * dv;
                     }
-                    let (du, dv) = (x as f64 - u as f64, y as f64 - v as f64);
-                    s[0] += 1.0;
-                    s[1] += du;
-                    s[2] += dv;
-                    s[3] += du * du;
-                    s[4] += du * dv;
-                    s[5] += dv * dv;
-                    s[6] += dz;
-                    s[7] += dz * du;
-                    s[8] += dz * dv;
+                }
+                if (s[0] as usize) < MIN_NEIGHBOURS {
+                    continue;
+                }
+                let m =
+                    nalgebra::Matrix3::new(s[0], s[1], s[2], s[1], s[3], s[4], s[2], s[4], s[5]);
+                // A window that degenerates to a line (a one-pixel-wide strip) keeps its depth.
+                if m.determinant() < 1e-6 * s[0].powi(3) {
+                    continue;
+                }
+                if let Some(fit) = m
+                    .try_inverse()
+                    .map(|i| i * nalgebra::Vector3::new(s[6], s[7], s[8]))
+                {
+                    *out = (z0 + fit[0]) as f32;
                 }
             }
-            if (s[0] as usize) < MIN_NEIGHBOURS {
-                continue;
-            }
-            let m = nalgebra::Matrix3::new(s[0], s[1], s[2], s[1], s[3], s[4], s[2], s[4], s[5]);
-            // A window that degenerates to a line (a one-pixel-wide strip) keeps its depth.
-            if m.determinant() < 1e-6 * s[0].powi(3) {
-                continue;
-            }
-            if let Some(fit) = m
-                .try_inverse()
-                .map(|i| i * nalgebra::Vector3::new(s[6], s[7], s[8]))
-            {
-                *out = (z0 + fit[0]) as f32;
-            }
-        }
-    });
-    DepthFrame {
-        depth,
-        ..frame.clone()
-    }
+        });
+    frame
 }
