@@ -18,6 +18,7 @@
 //! its depth. Invalid pixels stay invalid; the truth is unchanged. Rows run in parallel;
 //! the result does not depend on the thread count.
 
+use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
 use super::DepthFrame;
@@ -69,8 +70,9 @@ pub fn smooth_frame(
                     continue;
                 }
                 let g = gate(z0);
-                // Normal equations of z = a + b·du + c·dv.
-                let mut s = [0.0f64; 9]; // n, Σdu, Σdv, Σdu², Σdudv, Σdv², Σdz, Σdz·du, Σdz·dv (dz from z0)
+                // Normal equations of dz = a + b·du + c·dv (dz from the centre's depth):
+                // n, Σdu, Σdv, Σdu², Σdu·dv, Σdv², Σdz, Σdz·du, Σdz·dv.
+                let mut s = [0.0f64; 9];
                 for y in v.saturating_sub(half)..(v + half + 1).min(h) {
                     for x in u.saturating_sub(half)..(u + half + 1).min(w) {
                         let dz = at(x, y) - z0;
@@ -92,16 +94,12 @@ pub fn smooth_frame(
                 if (s[0] as usize) < MIN_NEIGHBOURS {
                     continue;
                 }
-                let m =
-                    nalgebra::Matrix3::new(s[0], s[1], s[2], s[1], s[3], s[4], s[2], s[4], s[5]);
+                let m = Matrix3::new(s[0], s[1], s[2], s[1], s[3], s[4], s[2], s[4], s[5]);
                 // A window that degenerates to a line (a one-pixel-wide strip) keeps its depth.
                 if m.determinant() < 1e-6 * s[0].powi(3) {
                     continue;
                 }
-                if let Some(fit) = m
-                    .try_inverse()
-                    .map(|i| i * nalgebra::Vector3::new(s[6], s[7], s[8]))
-                {
+                if let Some(fit) = m.try_inverse().map(|i| i * Vector3::new(s[6], s[7], s[8])) {
                     *out = (z0 + fit[0]) as f32;
                 }
             }
