@@ -6,8 +6,8 @@
 //!
 //! The episodes are the scene's own, uncapped (up to 16 views per object). In the test
 //! profile (nbv-core at opt-level 3, see Cargo.toml) on 2 cores both tests together took
-//! 163 s (two episodes each, one at a time, the tests side by side), so nothing is cut to
-//! save time.
+//! 142 s on an idle machine (two episodes each, one at a time, the tests side by side), so
+//! nothing is cut to save time.
 
 mod common;
 

@@ -46,7 +46,7 @@ proptest! {
         let plane = |u: usize, v: usize| z0 + a * u as f64 + b * v as f64;
         let hole = |u: usize, v: usize| holes.contains(&(u, v));
         let f = frame(plane, hole);
-        let s = smooth_frame(f.clone(), half, |_| 0.02);
+        let s = smooth_frame(f.clone(), half, |_| 0.005); // gate ~2 cm
         for (i, (&before, &after)) in f.depth.iter().zip(&s.depth).enumerate() {
             prop_assert_eq!(before.is_nan(), after.is_nan(), "pixel {}", i);
             if before.is_finite() {
@@ -68,7 +68,7 @@ fn the_noise_falls_by_the_windows_size() {
             .collect();
         let plane = |u: usize, v: usize| 0.45 + 0.001 * u as f64 - 0.0005 * v as f64;
         let f = frame(|u, v| plane(u, v) + noise[v * W + u], |_, _| false);
-        let s = smooth_frame(f.clone(), 2, |_| 3.0 * std::f64::consts::SQRT_2 * sigma);
+        let s = smooth_frame(f.clone(), 2, |_| sigma);
         let (mut raw, mut fit) = (Vec::new(), Vec::new());
         for v in 2..H - 2 {
             for u in 2..W - 2 {
@@ -93,7 +93,7 @@ fn a_depth_edge_keeps_its_two_sides_apart() {
         .collect();
     let side = |u: usize| if u < W / 2 { 0.40 } else { 0.50 };
     let f = frame(|u, v| side(u) + noise[v * W + u], |_, _| false);
-    let s = smooth_frame(f.clone(), 2, |_| 3.0 * std::f64::consts::SQRT_2 * sigma);
+    let s = smooth_frame(f.clone(), 2, |_| sigma);
     for v in 0..H {
         for u in 0..W {
             let z = f64::from(s.depth[v * W + u]);
@@ -109,7 +109,7 @@ fn half_width_zero_leaves_the_frame() {
         |u, v| 0.3 + 0.01 * ((u * v) % 7) as f64,
         |u, v| (u + v) % 5 == 0,
     );
-    let s = smooth_frame(f.clone(), 0, |_| 1.0);
+    let s = smooth_frame(f.clone(), 0, |_| 0.3);
     assert_eq!(
         f.depth.iter().map(|d| d.to_bits()).collect::<Vec<_>>(),
         s.depth.iter().map(|d| d.to_bits()).collect::<Vec<_>>()

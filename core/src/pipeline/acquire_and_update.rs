@@ -77,8 +77,8 @@ pub(super) fn acquire_and_update(
 }
 
 /// `config.frames_per_view` frames (at least one) at the camera's current pose, averaged,
-/// then smoothed by `config.depth_smoothing` ([`smooth_frame`]); a neighbour takes part in
-/// a pixel's fit within three σ of the averaged noise of a depth difference.
+/// then smoothed by `config.depth_smoothing` ([`smooth_frame`]) at the averaged frame's
+/// noise.
 pub(super) fn capture_burst(
     camera: &mut dyn DepthCamera,
     config: &ExploreConfig,
@@ -90,6 +90,6 @@ pub(super) fn capture_burst(
     let frame = average_frames(&frames)?;
     let noise = config.uncertainty.camera_noise.averaged(n);
     Ok(smooth_frame(frame, config.depth_smoothing, |z| {
-        3.0 * std::f64::consts::SQRT_2 * noise.sigma(z)
+        noise.sigma(z)
     }))
 }

@@ -11,8 +11,9 @@
 //! a `(2h+1)²` window (σ/5 for `h = 2`) removes nearly all of it, while the fit's own
 //! bias on a curved surface is of the window's size squared over `2R` (≈ 0.2 mm there).
 //!
-//! Per valid pixel: the neighbours in the window whose depth is within `gate(z)` of the
-//! centre's (other surfaces across a depth edge stay out), a plane `z = a + b·du + c·dv`
+//! Per valid pixel: the neighbours in the window whose depth is within [`GATE_SIGMAS`] σ of
+//! the centre's, σ the noise of a depth difference (`√2·σ(z)` for the frame's per-pixel
+//! `σ(z)`; other surfaces across a depth edge stay out), a plane `z = a + b·du + c·dv`
 //! fitted to them, and the centre's depth replaced by `a` — when at least
 //! [`MIN_NEIGHBOURS`] took part and the fit is well conditioned; otherwise the pixel keeps
 //! its depth. Invalid pixels stay invalid; the truth is unchanged. Rows run in parallel;
@@ -26,9 +27,13 @@ use super::DepthFrame;
 /// Valid pixels (the centre included) a fit needs.
 pub const MIN_NEIGHBOURS: usize = 6;
 
+/// How many σ of a depth difference a neighbour may be off the centre's depth.
+pub const GATE_SIGMAS: f64 = 3.0;
+
 /// `frame` with every valid depth replaced by the edge-gated plane fit over the
-/// `(2·half + 1)²` window around it; `gate(z)` is how far (m) a neighbour's depth may be
-/// from the centre's depth `z` to take part. `half = 0` returns the frame unchanged.
+/// `(2·half + 1)²` window around it; `sigma(z)` is the frame's range noise (m) at depth `z`,
+/// and a neighbour takes part within [`GATE_SIGMAS`]·√2·`sigma(z)` of the centre's depth
+/// `z`. `half = 0` returns the frame unchanged.
 ///
 /// ```
 /// use nbv_core::rig::{DepthFrame, smooth_frame};
@@ -43,7 +48,7 @@ pub const MIN_NEIGHBOURS: usize = 6;
 ///     })
 ///     .collect();
 /// let frame = DepthFrame { time: 0.0, width: w, height: h, depth, truth: None };
-/// let smooth = smooth_frame(frame, 2, |_| 0.01);
+/// let smooth = smooth_frame(frame, 2, |_| 0.0025); // a neighbour within ~1 cm
 /// // Pixel (1, 2): the plane's 0.505 with the noise mostly gone, the edge left out.
 /// let z = smooth.depth[2 * w + 1];
 /// assert!((z - 0.505).abs() < 0.0006, "{z}");
@@ -51,7 +56,7 @@ pub const MIN_NEIGHBOURS: usize = 6;
 pub fn smooth_frame(
     mut frame: DepthFrame,
     half: usize,
-    gate: impl Fn(f64) -> f64 + Sync,
+    sigma: impl Fn(f64) -> f64 + Sync,
 ) -> DepthFrame {
     let (w, h) = (frame.width, frame.height);
     if half == 0 || w == 0 || h == 0 {
@@ -69,7 +74,7 @@ pub fn smooth_frame(
                 if !z0.is_finite() {
                     continue;
                 }
-                let g = gate(z0);
+                let g = GATE_SIGMAS * std::f64::consts::SQRT_2 * sigma(z0);
                 // Normal equations of dz = a + b·du + c·dv (dz from the centre's depth):
                 // n, Σdu, Σdv, Σdu², Σdu·dv, Σdv², Σdz, Σdz·du, Σdz·dv.
                 let mut s = [0.0f64; 9];

@@ -68,12 +68,10 @@ pub struct Nbv {
     /// 30 Hz); 1 takes a single frame.
     pub frames_per_view: u32,
     /// Half-width (pixels) of the edge-gated plane fit that smooths each averaged depth
-    /// frame before it is used ([`smooth_frame`](nbv_core::rig::smooth_frame)): the
-    /// camera's noise along its rays biases the registration on curved objects by
-    /// `σ²·sin²θ / 2R` (1–3 mm on the paper scenes), and a `(2h+1)²` fit takes σ down by
-    /// about `2h+1`. Default 0 (the averaged frame as it is). 2 (a 5 × 5 window) lowers
-    /// the registration's error in Table III and on held-out seeds but also the coverage,
-    /// and on held-out seeds the F-score (benches/README, "Smoothing the depth frames").
+    /// frame before it is used ([`smooth_frame`](nbv_core::rig::smooth_frame), which says
+    /// why). Default 0 (the averaged frame as it is). 2 (a 5 × 5 window) lowers the
+    /// registration's error in Table III and on held-out seeds but also the coverage, and
+    /// on held-out seeds the F-score (benches/README, "Smoothing the depth frames").
     pub depth_smoothing: u32,
     /// What ranks the candidates: `"paper"` (eq. (4), default) or one of the seven
     /// information gains of Isler et al. 2016 / Delmerico et al. 2018:
