@@ -181,6 +181,7 @@ impl Scene {
             max_views_per_object: self.nbv.max_views_per_object as usize,
             frames_per_view: self.nbv.frames_per_view as usize,
             depth_smoothing: self.nbv.depth_smoothing as usize,
+            no_return_clearing: self.mapping.no_return_clearing,
             planner,
             obstacles,
             registration: RegistrationParams {

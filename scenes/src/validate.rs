@@ -75,6 +75,15 @@ fn scalars(s: &Scene, c: &Check) -> Result<(), SceneError> {
     s.sensors.check(c)?;
     s.sweep.check(c)?;
     s.mapping.check(c)?;
+    let far = s.sensors.short_range.range[1];
+    let expected = format!("[0, sensors.short_range.range[1] = {far}]");
+    c.within(
+        "mapping.no_return_clearing",
+        s.mapping.no_return_clearing,
+        0.0,
+        far,
+        &expected,
+    )?;
     s.segmentation.check(c)?;
     s.nbv.check(c)?;
     s.planner.check(c)?;

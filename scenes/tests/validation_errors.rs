@@ -134,6 +134,21 @@ fn structural_errors() {
     assert_eq!(invalid(&ws).0, "workspace.max");
     let eps = env1().replace("epsilon_o = 0.4", "epsilon_o = 0.9");
     assert_eq!(invalid(&eps).0, "mapping.epsilon_o");
+    // Free space beyond the camera's far limit (0.8 m) cannot come from a missing return.
+    let far = env1().replace(
+        "epsilon_o = 0.4",
+        "epsilon_o = 0.4\nno_return_clearing = 0.9",
+    );
+    let (key, problem) = invalid(&far);
+    assert_eq!(key, "mapping.no_return_clearing");
+    assert!(
+        matches!(problem, Problem::OutOfRange { ref expected, .. } if expected.contains("0.8"))
+    );
+    let negative = env1().replace(
+        "epsilon_o = 0.4",
+        "epsilon_o = 0.4\nno_return_clearing = -0.1",
+    );
+    assert_eq!(invalid(&negative).0, "mapping.no_return_clearing");
     let sweep = env1().replace(", [0.0, -40.0, -90.0, 0.0, 84.0, 0.0]]", "]");
     assert_eq!(invalid(&sweep).0, "sweep.waypoints_deg");
     let asset = std::path::Path::new(nbv_core::kinematics::COMAU_URDF);

@@ -53,6 +53,6 @@ pub use grid_geometry::{GridGeometry, MAX_VOXELS, VoxelIndex};
 pub use log_odds::{OccupancyParams, VoxelState, log_odds, probability};
 pub use occlusion_distances::{OCCLUSION_UPDATE_DISTANCE, OcclusionDistances};
 pub use occupancy_error::OccupancyError;
-pub use occupancy_grid::{OccupancyGrid, ScanUpdate, ScanVoxels, StateCounts};
+pub use occupancy_grid::{FreeRay, OccupancyGrid, ScanUpdate, ScanVoxels, StateCounts};
 pub use reduced_map::{ReducedMap, ReducedMapStats};
 pub use voxel_traversal::{VoxelCrossing, VoxelTraversal};

@@ -38,6 +38,19 @@ pub struct ScanUpdate {
     pub hits_outside: usize,
 }
 
+/// A ray that returned nothing within its length (a depth pixel without a return in any
+/// frame of a burst): it clears free space from `origin` to `end` and hits nothing.
+/// [`OccupancyGrid::insert_scan`] stops it before the first voxel the grid already holds
+/// occupied: a missing return says nothing about what is already known to be there (a
+/// grazing or dark surface returns nothing either).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FreeRay {
+    /// Where the ray starts (the sensor's origin).
+    pub origin: Point3<f64>,
+    /// Where it stops clearing.
+    pub end: Point3<f64>,
+}
+
 /// A dense occupancy grid: one f32 log-odds per voxel of a [`GridGeometry`], all 0
 /// (unknown) at the start.
 ///
@@ -212,7 +225,7 @@ impl OccupancyGrid {
     ) -> Result<(ScanVoxels, ScanUpdate), OccupancyError> {
         check_scan(origins, points, max_range)?;
         let mut marks = ScanMarks::new(self.geometry.len());
-        let traced = trace_scan(&self.geometry, &marks, origins, points, max_range);
+        let traced = trace_scan(&self.geometry, &marks, origins, points, max_range, &[]);
         let mut voxels = ScanVoxels::default();
         for &l in traced.touched.iter().flatten() {
             let l = l as usize;
@@ -242,9 +255,48 @@ impl OccupancyGrid {
         points: &[Point3<f64>],
         max_range: f64,
     ) -> Result<ScanUpdate, OccupancyError> {
+        self.insert_scan(origins, points, max_range, &[])
+    }
+
+    /// Applies one scan of rays `origins[i] → points[i]` and of rays that returned nothing
+    /// (`free`), as one update: each free ray passes the voxels from its origin to its end,
+    /// or to the first voxel this grid holds occupied, whichever comes first; a hit of
+    /// the scan still wins over its passes.
+    ///
+    /// ```
+    /// use nbv_core::occupancy::{FreeRay, GridGeometry, OccupancyGrid, OccupancyParams, VoxelState};
+    /// use nalgebra::Point3;
+    /// let g = GridGeometry::from_dims(Point3::origin(), 0.1, [10, 1, 1]).unwrap();
+    /// let mut grid = OccupancyGrid::new(g, OccupancyParams::default()).unwrap();
+    /// let o = Point3::new(-1.0, 0.05, 0.05);
+    /// grid.insert_rays(&[o], &[Point3::new(0.75, 0.05, 0.05)], 5.0).unwrap(); // voxel 7 hit
+    /// let free = FreeRay { origin: o, end: Point3::new(0.95, 0.05, 0.05) };
+    /// grid.insert_scan(&[], &[], 5.0, &[free]).unwrap();
+    /// assert_eq!(grid.state([6, 0, 0]), Some(VoxelState::Empty));
+    /// assert_eq!(grid.state([7, 0, 0]), Some(VoxelState::Occupied)); // the ray stopped
+    /// assert_eq!(grid.state([8, 0, 0]), Some(VoxelState::Unknown));
+    /// ```
+    pub fn insert_scan(
+        &mut self,
+        origins: &[Point3<f64>],
+        points: &[Point3<f64>],
+        max_range: f64,
+        free: &[FreeRay],
+    ) -> Result<ScanUpdate, OccupancyError> {
         check_scan(origins, points, max_range)?;
+        let free_origins: Vec<_> = free.iter().map(|r| r.origin).collect();
+        let free_ends: Vec<_> = free.iter().map(|r| r.end).collect();
+        check_scan(&free_origins, &free_ends, f64::INFINITY)?;
+        let free = self.stopped_at_occupied(free);
         self.marks.ensure_len(self.geometry.len());
-        let traced = trace_scan(&self.geometry, &self.marks, origins, points, max_range);
+        let traced = trace_scan(
+            &self.geometry,
+            &self.marks,
+            origins,
+            points,
+            max_range,
+            &free,
+        );
         let params = self.params;
         let mut update = ScanUpdate {
             rays: points.len(),
@@ -271,6 +323,28 @@ impl OccupancyGrid {
             }
         }
         Ok(update)
+    }
+
+    /// `free` with each ray cut where it enters the first voxel this grid holds occupied
+    /// (rays starting in one are dropped).
+    fn stopped_at_occupied(&self, free: &[FreeRay]) -> Vec<FreeRay> {
+        let eps = self.params.occupied_epsilon;
+        free.par_iter()
+            .filter_map(|r| {
+                let d = r.end - r.origin;
+                let len = d.norm();
+                let walk = VoxelTraversal::new(&self.geometry, &r.origin, &d, len).ok()?;
+                let stop = walk
+                    .find_map_linear(|l, t| (self.log_odds[l] > eps).then_some(t))
+                    .unwrap_or(len);
+                // Just short of the occupied voxel's entry face.
+                let stop = stop - 1e-9 * self.geometry.resolution();
+                (stop > 0.0).then(|| FreeRay {
+                    origin: r.origin,
+                    end: r.origin + d * (stop / len),
+                })
+            })
+            .collect()
     }
 
     /// Applies one scan given as a cloud with its `origins` column.
@@ -342,6 +416,7 @@ fn trace_scan(
     origins: &[Point3<f64>],
     points: &[Point3<f64>],
     max_range: f64,
+    free: &[FreeRay],
 ) -> Traced {
     // Passes in parallel; each task also lists its rays' hit voxels and counts.
     let tasks = by_task(origins, points, |os, ps| {
@@ -366,6 +441,18 @@ fn trace_scan(
         truncated: 0,
         hits_outside: 0,
     };
+    // The free rays' passes, before any hit is marked.
+    let free_origins: Vec<_> = free.iter().map(|r| r.origin).collect();
+    let free_ends: Vec<_> = free.iter().map(|r| r.end).collect();
+    traced
+        .touched
+        .extend(by_task(&free_origins, &free_ends, |os, ps| {
+            let mut touched = Vec::new();
+            for (o, p) in os.iter().zip(ps) {
+                trace_ray(geometry, o, p, f64::INFINITY, marks, &mut touched);
+            }
+            touched
+        }));
     let mut hit_touched = Vec::new();
     for (touched, hits, t, o) in tasks {
         for h in hits {
@@ -462,6 +549,99 @@ mod tests {
             Some((2.0 * u).min(grid.params().clamp_max))
         );
         assert_eq!(grid.value([0, 0, 0]), Some(-2.0 * u));
+    }
+
+    #[test]
+    fn free_rays_clear_to_their_end_stop_at_known_surface_and_lose_to_hits() {
+        let mut grid = line_grid();
+        let u = grid.params().hit_log_odds();
+        let o = p(-1.0, 0.1, 0.1);
+        // Voxel 5 is known surface; a free ray towards voxel 7 stops at its face.
+        grid.insert_rays(&[o], &[p(1.3, 0.1, 0.1)], 10.0).unwrap();
+        let before = grid.clone();
+        let free = FreeRay {
+            origin: o,
+            end: p(1.9, 0.1, 0.1),
+        };
+        let up = grid.insert_scan(&[], &[], 10.0, &[free]).unwrap();
+        assert_eq!((up.rays, up.occupied, up.free), (0, 0, 5));
+        for i in 0..5 {
+            assert_eq!(grid.value([i, 0, 0]), Some(-2.0 * u), "voxel {i}");
+        }
+        for i in 5..8 {
+            assert_eq!(grid.value([i, 0, 0]), before.value([i, 0, 0]), "voxel {i}");
+        }
+        // In an unknown grid it clears up to its end only (voxels 0..=3 for x ≤ 0.9).
+        let mut grid = line_grid();
+        let free = FreeRay {
+            origin: o,
+            end: p(0.9, 0.1, 0.1),
+        };
+        grid.insert_scan(&[], &[], 10.0, &[free]).unwrap();
+        assert_eq!(grid.indices_in_state(VoxelState::Empty), vec![0, 1, 2, 3]);
+        // A hit of the same scan wins over a free ray's pass, once.
+        let mut grid = line_grid();
+        let up = grid
+            .insert_scan(&[o], &[p(0.6, 0.1, 0.1)], 10.0, &[free])
+            .unwrap();
+        assert_eq!((up.occupied, up.free), (1, 3));
+        assert_eq!(grid.value([2, 0, 0]), Some(u));
+        // A free ray starting in a known surface voxel clears nothing; bad rays are errors.
+        let mut grid = line_grid();
+        grid.insert_rays(&[o], &[p(0.1, 0.1, 0.1)], 10.0).unwrap();
+        let inside = FreeRay {
+            origin: p(0.1, 0.1, 0.1),
+            end: p(1.9, 0.1, 0.1),
+        };
+        let up = grid.insert_scan(&[], &[], 10.0, &[inside]).unwrap();
+        assert_eq!(up.free, 0);
+        let bad = FreeRay {
+            origin: o,
+            end: p(f64::NAN, 0.1, 0.1),
+        };
+        assert!(grid.insert_scan(&[], &[], 10.0, &[bad]).is_err());
+    }
+
+    proptest::proptest! {
+        /// Free rays only ever pass: no voxel rises, none the grid held occupied changes,
+        /// every voxel changes by at most one `−u` (clamped), and none beyond a ray's end.
+        #[test]
+        fn free_rays_only_lower_unknown_or_free_voxels(
+            hits in proptest::collection::vec((0.0..2.0f64, 0.0..0.5f64, 0.0..0.5f64), 0..6),
+            rays in proptest::collection::vec(
+                (0.0..0.5f64, 0.0..0.5f64, 0.1..2.5f64, 0.0..0.5f64, 0.0..0.5f64), 1..8),
+        ) {
+            let mut grid = line_grid();
+            let o = p(-0.5, 0.25, 0.25);
+            let points: Vec<_> = hits.iter().map(|&(x, y, z)| p(x, y, z)).collect();
+            grid.insert_rays(&vec![o; points.len()], &points, 10.0).unwrap();
+            let before = grid.clone();
+            let free: Vec<_> = rays
+                .iter()
+                .map(|&(y0, z0, x1, y1, z1)| FreeRay {
+                    origin: p(-0.5, y0, z0),
+                    end: p(x1, y1, z1),
+                })
+                .collect();
+            grid.insert_scan(&[], &[], 10.0, &free).unwrap();
+            let u = grid.params().hit_log_odds();
+            let lo = grid.params().clamp_min;
+            // The voxels any ray could reach (up to its end), by the traversal itself.
+            let mut reach = vec![false; grid.geometry().len()];
+            for r in &free {
+                for c in grid.geometry().traverse_segment(&r.origin, &r.end).unwrap() {
+                    reach[c.linear] = true;
+                }
+            }
+            for (l, (&a, &b)) in grid.log_odds().iter().zip(before.log_odds()).enumerate() {
+                proptest::prop_assert!(a <= b);
+                if a != b {
+                    proptest::prop_assert_eq!(a, (b - u).max(lo));
+                    proptest::prop_assert!(reach[l]);
+                    proptest::prop_assert!(before.state_linear(l) != Some(VoxelState::Occupied));
+                }
+            }
+        }
     }
 
     #[test]

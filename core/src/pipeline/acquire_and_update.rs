@@ -9,10 +9,12 @@ use crate::cloud::{PlaneFit, PointCloud};
 use crate::kinematics::Joints;
 use crate::math::Pose;
 use crate::nbv::InformationGain;
+use crate::occupancy::FreeRay;
 use crate::rig::{
-    DepthCamera, DepthFrame, Rig, RigError, average_frames, depth_frame_to_cloud, sensor_pose,
-    smooth_frame,
+    DepthCamera, DepthCameraSpec, DepthFrame, Rig, RigError, average_frames, depth_frame_to_cloud,
+    no_return_pixels, sensor_pose, smooth_frame,
 };
+use nalgebra::Point3;
 
 /// What one view added.
 #[derive(Debug, Clone)]
@@ -43,16 +45,19 @@ pub(super) fn acquire_and_update(
     table: Option<&PlaneFit>,
     times: &mut StepTimes,
 ) -> Result<Observation, PipelineError> {
-    let (frame, joints, pose) = timed(&mut times.acquisition, || -> Result<_, PipelineError> {
-        let frame = capture_burst(rig.camera, config)?;
-        let joints = rig.arm.joints()?;
-        let pose = sensor_pose(&rig.robot, &rig.base, &joints, &rig.camera.spec().frame)?;
-        let cloud = depth_frame_to_cloud(&frame, rig.camera.spec(), &pose)?;
-        Ok((cloud, joints, pose))
-    })?;
+    let (frame, free, joints, pose) =
+        timed(&mut times.acquisition, || -> Result<_, PipelineError> {
+            let (frame, no_return) = capture_burst(rig.camera, config)?;
+            let joints = rig.arm.joints()?;
+            let spec = rig.camera.spec();
+            let pose = sensor_pose(&rig.robot, &rig.base, &joints, &spec.frame)?;
+            let cloud = depth_frame_to_cloud(&frame, spec, &pose)?;
+            let free = free_rays(&no_return, spec, &pose, config.no_return_clearing);
+            Ok((cloud, free, joints, pose))
+        })?;
     let gain = timed(&mut times.mapping, || -> Result<_, PipelineError> {
         let before = map.grid.clone();
-        map.insert(&frame, rig.camera.spec().range[1])?;
+        map.insert(&frame, rig.camera.spec().range[1], &free)?;
         Ok(InformationGain::between(&before, &map.grid, predicted)?)
     })?;
     let mut cloud = region.crop(&frame);
@@ -78,18 +83,39 @@ pub(super) fn acquire_and_update(
 
 /// `config.frames_per_view` frames (at least one) at the camera's current pose, averaged,
 /// then smoothed by `config.depth_smoothing` ([`smooth_frame`]) at the averaged frame's
-/// noise.
+/// noise; and the burst's pixels without a return ([`no_return_pixels`]).
 pub(super) fn capture_burst(
     camera: &mut dyn DepthCamera,
     config: &ExploreConfig,
-) -> Result<DepthFrame, RigError> {
+) -> Result<(DepthFrame, Vec<bool>), RigError> {
     let n = config.frames_per_view.max(1);
     let frames = (0..n)
         .map(|_| camera.capture())
         .collect::<Result<Vec<_>, _>>()?;
+    let no_return = no_return_pixels(&frames);
     let frame = average_frames(&frames)?;
     let noise = config.uncertainty.camera_noise.averaged(n);
-    Ok(smooth_frame(frame, config.depth_smoothing, |z| {
-        noise.sigma(z)
-    }))
+    let frame = smooth_frame(frame, config.depth_smoothing, |z| noise.sigma(z));
+    Ok((frame, no_return))
+}
+
+/// The free rays of the pixels in `no_return` (row-major over `spec`'s image), from the
+/// camera at `pose` along each pixel's ray, `length` metres long; none if `length` is 0.
+fn free_rays(no_return: &[bool], spec: &DepthCameraSpec, pose: &Pose, length: f64) -> Vec<FreeRay> {
+    if length <= 0.0 {
+        return Vec::new();
+    }
+    let origin = Point3::from(pose.translation.vector);
+    no_return
+        .iter()
+        .enumerate()
+        .filter(|(_, empty)| **empty)
+        .map(|(i, _)| {
+            let ray = pose.rotation * spec.pixel_ray(i % spec.width, i / spec.width);
+            FreeRay {
+                origin,
+                end: origin + ray * (length / ray.norm()),
+            }
+        })
+        .collect()
 }

@@ -4,7 +4,7 @@
 
 use crate::cloud::PointCloud;
 use crate::nbv::{GainMap, Objective};
-use crate::occupancy::{OcclusionDistances, OccupancyError, OccupancyGrid, ReducedMap};
+use crate::occupancy::{FreeRay, OcclusionDistances, OccupancyError, OccupancyGrid, ReducedMap};
 
 /// The map the object loop scores candidates on and updates with each view.
 #[derive(Debug, Clone)]
@@ -41,9 +41,22 @@ impl ExplorationMap {
     }
 
     /// Inserts one frame (a cloud with origins; rays beyond `max_range` clear free space
-    /// only), then marks the voxels behind its points and refreshes the reduced map.
-    pub fn insert(&mut self, frame: &PointCloud, max_range: f64) -> Result<(), OccupancyError> {
-        self.grid.insert_cloud(frame, max_range)?;
+    /// only) with the rays that returned nothing (`free`, see
+    /// [`OccupancyGrid::insert_scan`]), then marks the voxels behind its points and
+    /// refreshes the reduced map.
+    pub fn insert(
+        &mut self,
+        frame: &PointCloud,
+        max_range: f64,
+        free: &[FreeRay],
+    ) -> Result<(), OccupancyError> {
+        frame.validate()?;
+        let origins = frame
+            .origins
+            .as_deref()
+            .ok_or(OccupancyError::MissingOrigins)?;
+        self.grid
+            .insert_scan(origins, &frame.points, max_range, free)?;
         if let Some(marks) = &mut self.occlusion {
             marks.mark_cloud(&self.grid, frame)?;
         }
@@ -78,7 +91,7 @@ mod tests {
         assert!(paper.occlusion.is_none());
         let mut pc =
             ExplorationMap::after_phase_one(grid, &empty, Objective::ProximityCount).unwrap();
-        pc.insert(&frame, 5.0).unwrap();
+        pc.insert(&frame, 5.0, &[]).unwrap();
         assert_eq!(
             pc.occlusion.as_ref().unwrap().steps()[..6],
             [0, 0, 0, 1, 2, 3]

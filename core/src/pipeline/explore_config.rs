@@ -65,6 +65,12 @@ pub struct ExploreConfig {
     /// Half-width (pixels) of the plane fit that smooths each averaged frame
     /// ([`smooth_frame`](crate::rig::smooth_frame)); 0 leaves it as averaged.
     pub depth_smoothing: usize,
+    /// Length (m) of free space a view's depth pixel without a return in any frame of
+    /// its burst clears along its ray (away from the image's returns, short of the
+    /// surfaces the grid knows: [`no_return_pixels`](crate::rig::no_return_pixels),
+    /// [`OccupancyGrid::insert_scan`](crate::occupancy::OccupancyGrid::insert_scan));
+    /// 0 clears nothing.
+    pub no_return_clearing: f64,
     /// Hard cap on short-range views per object.
     pub max_views_per_object: usize,
     /// The joint-space planner.

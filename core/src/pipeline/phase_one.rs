@@ -161,7 +161,7 @@ fn survey(
             Err(e) => return Err(e.into()),
         }
         let view = timed(&mut times.acquisition, || -> Result<_, PipelineError> {
-            let image = capture_burst(rig.camera, config)?;
+            let (image, _) = capture_burst(rig.camera, config)?;
             let joints = rig.arm.joints()?;
             let pose = sensor_pose(&rig.robot, &rig.base, &joints, &rig.camera.spec().frame)?;
             Ok(depth_frame_to_cloud(&image, rig.camera.spec(), &pose)?)

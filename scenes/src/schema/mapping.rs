@@ -17,6 +17,14 @@ pub struct Mapping {
     pub epsilon_o: f64,
     /// Log-odds clamping `[min, max]`. Default `[-2.0, 3.5]` (OctoMap's 0.1192 / 0.971).
     pub clamp: [f64; 2],
+    /// Free space (m along the ray) that a depth pixel without a return in any frame of a
+    /// view's burst clears, away from the image's returns and short of the surfaces the
+    /// grid already holds (`nbv_core::rig::no_return_pixels`,
+    /// `nbv_core::occupancy::OccupancyGrid::insert_scan`); 0 clears nothing. In
+    /// `[0, sensors.short_range.range[1]]`. Default 0 (off; measured in benches/README,
+    /// "Free space where the camera returns nothing"). For the Dinast, 0.75: its far limit
+    /// (0.8 m) less its 5 cm `range_margin`, within which a surface in view returns.
+    pub no_return_clearing: f64,
 }
 
 impl Default for Mapping {
@@ -25,6 +33,7 @@ impl Default for Mapping {
             p_hit: 0.7,
             epsilon_o: 0.4,
             clamp: [-2.0, 3.5],
+            no_return_clearing: 0.0,
         }
     }
 }
