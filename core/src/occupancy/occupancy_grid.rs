@@ -347,18 +347,20 @@ impl OccupancyGrid {
             .collect()
     }
 
-    /// Applies one scan given as a cloud with its `origins` column.
+    /// Applies one scan given as a cloud with its `origins` column, with the rays that
+    /// returned nothing (`free`, see [`Self::insert_scan`]; empty for none).
     pub fn insert_cloud(
         &mut self,
         cloud: &PointCloud,
         max_range: f64,
+        free: &[FreeRay],
     ) -> Result<ScanUpdate, OccupancyError> {
         cloud.validate()?;
         let origins = cloud
             .origins
             .as_deref()
             .ok_or(OccupancyError::MissingOrigins)?;
-        self.insert_rays(origins, &cloud.points, max_range)
+        self.insert_scan(origins, &cloud.points, max_range, free)
     }
 
     /// Applies one scan where every ray starts at the same `origin`.
@@ -709,7 +711,7 @@ mod tests {
         }
         let cloud = PointCloud::from_points(vec![p(0.1, 0.1, 0.1)]);
         assert_eq!(
-            grid.insert_cloud(&cloud, 1.0),
+            grid.insert_cloud(&cloud, 1.0, &[]),
             Err(OccupancyError::MissingOrigins)
         );
         assert_eq!(

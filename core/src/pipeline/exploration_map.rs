@@ -50,13 +50,7 @@ impl ExplorationMap {
         max_range: f64,
         free: &[FreeRay],
     ) -> Result<(), OccupancyError> {
-        frame.validate()?;
-        let origins = frame
-            .origins
-            .as_deref()
-            .ok_or(OccupancyError::MissingOrigins)?;
-        self.grid
-            .insert_scan(origins, &frame.points, max_range, free)?;
+        self.grid.insert_cloud(frame, max_range, free)?;
         if let Some(marks) = &mut self.occlusion {
             marks.mark_cloud(&self.grid, frame)?;
         }
