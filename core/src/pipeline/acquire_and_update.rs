@@ -119,3 +119,48 @@ fn free_rays(no_return: &[bool], spec: &DepthCameraSpec, pose: &Pose, length: f6
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Translation3, UnitQuaternion, Vector3};
+
+    #[test]
+    fn free_rays_run_along_the_pixels_the_cloud_puts_points_on() {
+        let spec = DepthCameraSpec::ipa1110();
+        let (w, h) = (spec.width, spec.height);
+        let pose = Pose::from_parts(
+            Translation3::new(0.6, -0.1, 0.7),
+            UnitQuaternion::from_euler_angles(2.8, -0.4, 1.1),
+        );
+        // Three pixels: a corner, the centre, an off-centre one.
+        let pixels = [0, (h / 2) * w + w / 2, 37 * w + 250];
+        let mut no_return = vec![false; w * h];
+        let mut depth = vec![f32::NAN; w * h];
+        for &i in &pixels {
+            no_return[i] = true;
+            depth[i] = 0.5;
+        }
+        let frame = DepthFrame {
+            time: 0.0,
+            width: w,
+            height: h,
+            depth,
+            truth: None,
+        };
+        let cloud = depth_frame_to_cloud(&frame, &spec, &pose).unwrap();
+        let rays = free_rays(&no_return, &spec, &pose, 0.75);
+        assert_eq!((rays.len(), cloud.len()), (3, 3));
+        let origin = Point3::from(pose.translation.vector);
+        for (ray, point) in rays.iter().zip(&cloud.points) {
+            assert_eq!(ray.origin, origin);
+            let along: Vector3<f64> = ray.end - ray.origin;
+            assert!((along.norm() - 0.75).abs() < 1e-12);
+            // The frame's point for the same pixel lies on the free ray's line.
+            let to_point = (point - origin).normalize();
+            assert!((along.normalize() - to_point).norm() < 1e-6);
+        }
+        // Off: no ray.
+        assert!(free_rays(&no_return, &spec, &pose, 0.0).is_empty());
+    }
+}
