@@ -83,7 +83,8 @@ pub(super) fn acquire_and_update(
 
 /// `config.frames_per_view` frames (at least one) at the camera's current pose, averaged,
 /// then smoothed by `config.depth_smoothing` ([`smooth_frame`]) at the averaged frame's
-/// noise; and the burst's pixels without a return ([`no_return_pixels`]).
+/// noise; and, when `config.no_return_clearing` clears anything, the burst's pixels
+/// without a return ([`no_return_pixels`]; else none).
 pub(super) fn capture_burst(
     camera: &mut dyn DepthCamera,
     config: &ExploreConfig,
@@ -92,7 +93,11 @@ pub(super) fn capture_burst(
     let frames = (0..n)
         .map(|_| camera.capture())
         .collect::<Result<Vec<_>, _>>()?;
-    let no_return = no_return_pixels(&frames);
+    let no_return = if config.no_return_clearing > 0.0 {
+        no_return_pixels(&frames)
+    } else {
+        Vec::new()
+    };
     let frame = average_frames(&frames)?;
     let noise = config.uncertainty.camera_noise.averaged(n);
     let frame = smooth_frame(frame, config.depth_smoothing, |z| noise.sigma(z));
