@@ -284,9 +284,7 @@ impl OccupancyGrid {
         free: &[FreeRay],
     ) -> Result<ScanUpdate, OccupancyError> {
         check_scan(origins, points, max_range)?;
-        let free_origins: Vec<_> = free.iter().map(|r| r.origin).collect();
-        let free_ends: Vec<_> = free.iter().map(|r| r.end).collect();
-        check_scan(&free_origins, &free_ends, f64::INFINITY)?;
+        check_free(free)?;
         let free = self.stopped_at_occupied(free);
         self.marks.ensure_len(self.geometry.len());
         let traced = trace_scan(
@@ -375,6 +373,21 @@ impl OccupancyGrid {
     }
 }
 
+/// Checks that every free ray's origin and end are finite.
+fn check_free(free: &[FreeRay]) -> Result<(), OccupancyError> {
+    let finite = |p: &Point3<f64>| p.iter().all(|c| c.is_finite());
+    match free
+        .iter()
+        .position(|r| !finite(&r.origin) || !finite(&r.end))
+    {
+        Some(index) => Err(OccupancyError::InvalidRay {
+            index,
+            reason: "free ray: origin or end point is not finite",
+        }),
+        None => Ok(()),
+    }
+}
+
 /// Checks a scan's arguments: as many origins as points, every coordinate finite,
 /// `max_range` > 0.
 fn check_scan(
@@ -444,14 +457,19 @@ fn trace_scan(
         hits_outside: 0,
     };
     // The free rays' passes, before any hit is marked.
-    let free_origins: Vec<_> = free.iter().map(|r| r.origin).collect();
-    let free_ends: Vec<_> = free.iter().map(|r| r.end).collect();
     traced
         .touched
-        .extend(by_task(&free_origins, &free_ends, |os, ps| {
+        .par_extend(free.par_chunks(RAYS_PER_TASK).map(|rays| {
             let mut touched = Vec::new();
-            for (o, p) in os.iter().zip(ps) {
-                trace_ray(geometry, o, p, f64::INFINITY, marks, &mut touched);
+            for r in rays {
+                trace_ray(
+                    geometry,
+                    &r.origin,
+                    &r.end,
+                    f64::INFINITY,
+                    marks,
+                    &mut touched,
+                );
             }
             touched
         }));
