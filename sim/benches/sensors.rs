@@ -54,11 +54,10 @@ fn sensors(c: &mut Criterion) {
     // The pipeline's smoothing of an averaged frame ([nbv] depth_smoothing = 2: the
     // edge-gated plane fit over 5 × 5 pixels at eight frames' noise).
     let frame = camera.draw(&truth, 0.0, id);
-    let sigma = camera.noise.range_sigma_at_1m / 8f64.sqrt();
     group.bench_function("dinast_frame_smoothed_5x5", |b| {
         b.iter_batched(
             || frame.clone(),
-            |frame| black_box(smooth_frame(frame, 2, |z| sigma * z)),
+            |frame| black_box(smooth_frame(frame, 2, |z| camera.sigma(z) / 8f64.sqrt())),
             BatchSize::LargeInput,
         )
     });
