@@ -5,7 +5,8 @@
 //! - [`CollisionWorld`]: robot primitives (from the URDF) at `link_poses(q)` against
 //!   [`Obstacle`]s (cuboids, triangle meshes), the occupied and unknown voxels of a
 //!   [`ReducedMap`](crate::occupancy::ReducedMap) (bitset broad phase over the lattice,
-//!   exact parry tests) and non-adjacent links;
+//!   exact bounds from each link's core, parry's GJK where they leave a voxel open) and
+//!   non-adjacent links;
 //! - [`MotionBound`]: per-joint lever arms, so edges are checked finely enough that no
 //!   point of the robot moves more than a given distance between checks;
 //! - [`MotionPlanner`]: RRT-Connect from the start to every IK solution of the viewpoint,
@@ -13,7 +14,8 @@
 //!   viewpoint; the result is a [`JointPath`](crate::rig::JointPath) and [`PlanStats`].
 //!
 //! parry3d works in f32 with glam types; the project stays in nalgebra f64 and converts in
-//! one module at the boundary (`parry_bridge`).
+//! one module at the boundary (`parry_bridge`; `shape_core` reads the dimensions of parry's
+//! primitives for its bounds).
 //!
 //! # Start configurations in collision
 //!
@@ -32,6 +34,7 @@ mod path_shortcut;
 mod planner_config;
 mod planning_error;
 mod robot_shapes;
+mod shape_core;
 mod voxel_obstacles;
 
 pub use collision_world::{Collision, CollisionTarget, CollisionWorld};

@@ -3,6 +3,7 @@
 //! bounding box overlaps.
 
 use super::parry_bridge::{Bounds, ParryPose, ParryShape, cube, intersects, translation};
+use super::shape_core::ShapeCore;
 use crate::occupancy::{GridGeometry, ReducedMap};
 
 /// Obstacle voxels on a lattice.
@@ -86,7 +87,9 @@ impl VoxelObstacles {
     /// stop. Returns `false` iff stopped.
     ///
     /// `sphere` (centre, radius) encloses the shape: voxels whose centre is farther than
-    /// `radius` plus half the voxel diagonal are skipped before the exact test.
+    /// `radius` plus half the voxel diagonal are skipped before the exact test. The exact
+    /// test is GJK only where the distance from the voxel's centre to the shape's core
+    /// leaves it open ([`ShapeCore::touches_cube`]).
     pub fn for_each_hit(
         &self,
         pose: &ParryPose,
@@ -101,6 +104,8 @@ impl VoxelObstacles {
         let [nx, ny, _] = self.geometry.dims();
         let reach = sphere.1 + 0.5 * 3f64.sqrt() * self.geometry.resolution();
         let reach2 = reach * reach;
+        let core = ShapeCore::of(shape, pose);
+        let half = 0.5 * self.geometry.resolution();
         for z in lo[2]..=hi[2] {
             for y in lo[1]..=hi[1] {
                 let row = nx * (y + ny * z);
@@ -124,9 +129,17 @@ impl VoxelObstacles {
                         if d2 > reach2 {
                             continue;
                         }
-                        if intersects(pose, shape, &translation([c.x, c.y, c.z]), &self.cube)
-                            && !visit(l)
-                        {
+                        let touches =
+                            core.and_then(|k| k.touches_cube(&c, half))
+                                .unwrap_or_else(|| {
+                                    intersects(
+                                        pose,
+                                        shape,
+                                        &translation([c.x, c.y, c.z]),
+                                        &self.cube,
+                                    )
+                                });
+                        if touches && !visit(l) {
                             return false;
                         }
                     }
