@@ -185,7 +185,7 @@ pub(crate) fn run(
             let xi = problem.correction(&state.corrections, v);
             let h = state
                 .data
-                .hessian
+                .hessian()
                 .fixed_view::<6, 6>(6 * v, 6 * v)
                 .into_owned();
             MapViewReport {
@@ -419,10 +419,10 @@ impl Problem<'_> {
         for (i, &v) in free.iter().enumerate() {
             for (j, &u) in free.iter().enumerate() {
                 a.fixed_view_mut::<6, 6>(6 * i, 6 * j)
-                    .copy_from(&state.data.hessian.fixed_view::<6, 6>(6 * v, 6 * u));
+                    .copy_from(&state.data.hessian().fixed_view::<6, 6>(6 * v, 6 * u));
             }
             let mut bi = b.fixed_rows_mut::<6>(6 * i);
-            bi.copy_from(&state.data.gradient.fixed_rows::<6>(6 * v));
+            bi.copy_from(&state.data.gradient().fixed_rows::<6>(6 * v));
             if let Some(prior) = self.models[v].prior {
                 let info: Matrix6<f64> = prior.information();
                 let mut block = a.fixed_view_mut::<6, 6>(6 * i, 6 * i);

@@ -52,6 +52,8 @@
 //! Work is split into fixed chunks of (pair, source points), summed in chunk order: the
 //! result is identical at any thread count.
 
+use std::cell::OnceCell;
+
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Point3, Vector3, Vector6};
 use rayon::prelude::*;
 
@@ -137,15 +139,12 @@ impl Kernel {
 
 /// The data term at some poses, with its normal equations over all views
 /// (`6·views` unknowns: rotation then translation per view, as perturbations about each
-/// view's current correction centre).
+/// view's current correction centre). The normal equations are assembled on first use:
+/// a trial step the solver rejects needs only the cost.
 #[derive(Debug, Clone)]
 pub(crate) struct DataTerm {
     /// Σ weight·ρ over all used source points.
     pub cost: f64,
-    /// Gauss–Newton Hessian.
-    pub hessian: DMatrix<f64>,
-    /// Gradient.
-    pub gradient: DVector<f64>,
     /// Inlier correspondences per view (as source or target).
     pub inliers: Vec<usize>,
     /// Inlier correspondences in all.
@@ -154,19 +153,108 @@ pub(crate) struct DataTerm {
     pub sum_sq: f64,
     /// Per pair, per used source point: matched within `Kernel::select` σ.
     pub matched: Vec<Vec<bool>>,
+    /// Each work item's inliers, in order.
+    chunks: Vec<ChunkLinear>,
+    views: usize,
+    normal: OnceCell<(DMatrix<f64>, DVector<f64>)>,
 }
 
-/// Partial sums of one work item.
-struct Sums {
-    cost: f64,
+impl DataTerm {
+    /// Gauss–Newton Hessian.
+    pub fn hessian(&self) -> &DMatrix<f64> {
+        &self.normal().0
+    }
+
+    /// Gradient.
+    pub fn gradient(&self) -> &DVector<f64> {
+        &self.normal().1
+    }
+
+    /// The normal equations, summed over the work items in their order (identical at any
+    /// thread count).
+    fn normal(&self) -> &(DMatrix<f64>, DVector<f64>) {
+        self.normal.get_or_init(|| {
+            let blocks: Vec<Blocks> = self.chunks.par_iter().map(ChunkLinear::blocks).collect();
+            let w = self.views;
+            let mut hessian = DMatrix::zeros(6 * w, 6 * w);
+            let mut gradient = DVector::zeros(6 * w);
+            for (c, b) in self.chunks.iter().zip(blocks) {
+                let (v, t) = (c.source, c.target);
+                add_block(&mut hessian, v, v, &b.hvv);
+                add_block(&mut hessian, t, t, &b.hww);
+                add_block(&mut hessian, v, t, &b.hvw);
+                add_block(&mut hessian, t, v, &b.hvw.transpose());
+                let mut gv = gradient.fixed_rows_mut::<6>(6 * v);
+                gv += b.gv;
+                let mut gw = gradient.fixed_rows_mut::<6>(6 * t);
+                gw += b.gw;
+            }
+            (hessian, gradient)
+        })
+    }
+}
+
+/// One inlier's share of the normal equations: its weighted information `a = w·C⁻¹`, its
+/// residual `e = x − y`, and `x`, `y` relative to their views' correction centres.
+#[derive(Debug, Clone)]
+struct Linear {
+    a: Matrix3<f64>,
+    e: Vector3<f64>,
+    x: Vector3<f64>,
+    y: Vector3<f64>,
+}
+
+/// The inliers of one work item (source points of one pair).
+#[derive(Debug, Clone)]
+struct ChunkLinear {
+    source: usize,
+    target: usize,
+    inliers: Vec<Linear>,
+}
+
+/// One work item's blocks of the normal equations.
+struct Blocks {
     hvv: Matrix6<f64>,
     hvw: Matrix6<f64>,
     hww: Matrix6<f64>,
     gv: Vector6<f64>,
     gw: Vector6<f64>,
+}
+
+impl ChunkLinear {
+    /// `J_v = [S_x, I]` and `J_w = −[S_y, I]` with `S = −[x − c]×` (a perturbation about
+    /// the view's centre `c`): every block of `JᵀAJ` is a 3×3 product.
+    fn blocks(&self) -> Blocks {
+        let mut b = Blocks {
+            hvv: Matrix6::zeros(),
+            hvw: Matrix6::zeros(),
+            hww: Matrix6::zeros(),
+            gv: Vector6::zeros(),
+            gw: Vector6::zeros(),
+        };
+        for l in &self.inliers {
+            let a = &l.a;
+            let sx = -l.x.cross_matrix();
+            let sy = -l.y.cross_matrix();
+            let (asx, asy) = (a * sx, a * sy);
+            add_jtaj(&mut b.hvv, &sx, &asx, &asx, a, 1.0);
+            add_jtaj(&mut b.hww, &sy, &asy, &asy, a, 1.0);
+            add_jtaj(&mut b.hvw, &sx, &asx, &asy, a, -1.0);
+            let ae = a * l.e;
+            add_jtae(&mut b.gv, &sx, &ae, 1.0);
+            add_jtae(&mut b.gw, &sy, &ae, -1.0);
+        }
+        b
+    }
+}
+
+/// Partial sums of one work item.
+struct Sums {
+    cost: f64,
     inliers: usize,
     sum_sq: f64,
     matched: Vec<bool>,
+    linear: ChunkLinear,
 }
 
 /// Evaluates the data term of `pairs` at the poses `poses` (view → world), the
@@ -193,29 +281,23 @@ pub(crate) fn evaluate(
     let w = views.len();
     let mut term = DataTerm {
         cost: 0.0,
-        hessian: DMatrix::zeros(6 * w, 6 * w),
-        gradient: DVector::zeros(6 * w),
         inliers: vec![0; w],
         inlier_count: 0,
         sum_sq: 0.0,
         matched: vec![Vec::new(); pairs.len()],
+        chunks: Vec::with_capacity(items.len()),
+        views: w,
+        normal: OnceCell::new(),
     };
     for (&(p, _), s) in items.iter().zip(sums) {
         let (v, t) = (pairs[p].source, pairs[p].target);
         term.matched[p].extend_from_slice(&s.matched);
         term.cost += s.cost;
-        add_block(&mut term.hessian, v, v, &s.hvv);
-        add_block(&mut term.hessian, t, t, &s.hww);
-        add_block(&mut term.hessian, v, t, &s.hvw);
-        add_block(&mut term.hessian, t, v, &s.hvw.transpose());
-        let mut gv = term.gradient.fixed_rows_mut::<6>(6 * v);
-        gv += s.gv;
-        let mut gw = term.gradient.fixed_rows_mut::<6>(6 * t);
-        gw += s.gw;
         term.inliers[v] += s.inliers;
         term.inliers[t] += s.inliers;
         term.inlier_count += s.inliers;
         term.sum_sq += s.sum_sq;
+        term.chunks.push(s.linear);
     }
     term
 }
@@ -301,14 +383,14 @@ fn chunk_sums(
     let floor = kernel.floor * kernel.floor;
     let mut s = Sums {
         cost: 0.0,
-        hvv: Matrix6::zeros(),
-        hvw: Matrix6::zeros(),
-        hww: Matrix6::zeros(),
-        gv: Vector6::zeros(),
-        gw: Vector6::zeros(),
         inliers: 0,
         sum_sq: 0.0,
         matched: Vec::with_capacity(CHUNK),
+        linear: ChunkLinear {
+            source: pair.source,
+            target: pair.target,
+            inliers: Vec::new(),
+        },
     };
     let used = pair.used(views);
     for k in chunk * CHUNK..((chunk + 1) * CHUNK).min(used) {
@@ -402,19 +484,12 @@ fn chunk_sums(
         }
         s.inliers += 1;
         s.sum_sq += e.norm_squared();
-        let w = pair.weight * weight;
-        // J_v = [S_x, I] and J_w = −[S_y, I] with S = −[x − c]× (a perturbation about the
-        // view's centre c): every block of JᵀAJ is a 3×3 product.
-        let a = info * w;
-        let sx = -(x - centres[pair.source]).cross_matrix();
-        let sy = -(y - centres[pair.target]).cross_matrix();
-        let (asx, asy) = (a * sx, a * sy);
-        add_jtaj(&mut s.hvv, &sx, &asx, &asx, &a, 1.0);
-        add_jtaj(&mut s.hww, &sy, &asy, &asy, &a, 1.0);
-        add_jtaj(&mut s.hvw, &sx, &asx, &asy, &a, -1.0);
-        let ae = a * e;
-        add_jtae(&mut s.gv, &sx, &ae, 1.0);
-        add_jtae(&mut s.gw, &sy, &ae, -1.0);
+        s.linear.inliers.push(Linear {
+            a: info * (pair.weight * weight),
+            e,
+            x: x - centres[pair.source],
+            y: y - centres[pair.target],
+        });
     }
     s
 }
