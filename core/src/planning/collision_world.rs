@@ -10,6 +10,7 @@ use super::parry_bridge::{
     world_bounds,
 };
 use super::robot_shapes::RobotShapes;
+use super::shape_core::ShapeCore;
 use super::voxel_obstacles::VoxelObstacles;
 use crate::kinematics::{Joints, Robot};
 use crate::occupancy::{GridGeometry, ReducedMap};
@@ -72,6 +73,7 @@ impl fmt::Display for Collision {
 /// A link shape placed at a configuration.
 struct PosedShape {
     pose: ParryPose,
+    core: Option<ShapeCore>,
     bounds: Bounds,
     sphere: ([f64; 3], f64),
 }
@@ -222,9 +224,14 @@ impl CollisionWorld {
                 let world = frames[s.frame] * s.local;
                 let pose = to_parry(&world);
                 let t = world.translation.vector;
+                let core = ShapeCore::of(&s.shape, &pose);
                 PosedShape {
                     pose,
-                    bounds: world_bounds(&pose, &s.shape, BOUNDS_MARGIN),
+                    core,
+                    bounds: core.map_or_else(
+                        || world_bounds(&pose, &s.shape, BOUNDS_MARGIN),
+                        |k| k.bounds(BOUNDS_MARGIN),
+                    ),
                     sphere: (
                         [t.x, t.y, t.z],
                         s.radius + self.links.padding + BOUNDS_MARGIN,
@@ -270,10 +277,17 @@ impl CollisionWorld {
         if let Some(voxels) = &self.voxels {
             for (s, p) in shapes.iter().zip(&posed) {
                 let mut hit = None;
-                voxels.for_each_hit(&p.pose, &s.shape, &p.bounds, p.sphere, |l| {
-                    hit = Some(l);
-                    false
-                });
+                voxels.for_each_hit(
+                    &p.pose,
+                    &s.shape,
+                    p.core.as_ref(),
+                    &p.bounds,
+                    p.sphere,
+                    |l| {
+                        hit = Some(l);
+                        false
+                    },
+                );
                 if let Some(linear) = hit {
                     return Some(Collision {
                         link: s.link.clone(),
@@ -297,10 +311,17 @@ impl CollisionWorld {
         };
         let mut out = Vec::new();
         for (s, p) in self.links.shapes.iter().zip(self.posed_links(q)) {
-            voxels.for_each_hit(&p.pose, &s.shape, &p.bounds, p.sphere, |l| {
-                out.push(l);
-                true
-            });
+            voxels.for_each_hit(
+                &p.pose,
+                &s.shape,
+                p.core.as_ref(),
+                &p.bounds,
+                p.sphere,
+                |l| {
+                    out.push(l);
+                    true
+                },
+            );
         }
         out.sort_unstable();
         out.dedup();

@@ -12,7 +12,7 @@
 
 use nalgebra::{Matrix3, Point3, Quaternion, UnitQuaternion, Vector3};
 
-use super::parry_bridge::{ParryPose, ParryShape};
+use super::parry_bridge::{Bounds, ParryPose, ParryShape};
 
 /// How far inside a bound a test must be to be settled by it (m): well beyond the
 /// rounding of parry's f32 poses and shapes.
@@ -92,6 +92,35 @@ impl ShapeCore {
         })
     }
 
+    /// The world axis-aligned box of the shape (exact: the core's box grown by the
+    /// radius), widened by `margin` on every side.
+    pub fn bounds(&self, margin: f64) -> Bounds {
+        let to_world = self.to_local.transpose();
+        let (centre, half) = match self.core {
+            Core::Point => (Vector3::zeros(), Vector3::zeros()),
+            Core::Segment(a, b) => {
+                let (a, b) = (to_world * a.coords, to_world * b.coords);
+                ((a + b) * 0.5, (a - b).abs() * 0.5)
+            }
+            Core::Box(half) => (Vector3::zeros(), to_world.abs() * half),
+            Core::Cylinder {
+                half_height,
+                radius,
+            } => {
+                // The end discs' extent across world axis i: radius · √(1 − axis_i²).
+                let axis = to_world.column(1).into_owned();
+                let rim = axis.map(|a| radius * (1.0 - a * a).max(0.0).sqrt());
+                (Vector3::zeros(), axis.abs() * half_height + rim)
+            }
+        };
+        let grow = Vector3::repeat(self.radius + margin);
+        let (lo, hi) = (
+            self.origin + centre - half - grow,
+            self.origin + centre + half + grow,
+        );
+        ([lo.x, lo.y, lo.z], [hi.x, hi.y, hi.z])
+    }
+
     /// The distance from the world point `p` to the core.
     fn core_distance(&self, p: &Point3<f64>) -> f64 {
         let local = self.to_local * (p.coords - self.origin);
@@ -133,7 +162,7 @@ impl ShapeCore {
 
 #[cfg(test)]
 mod tests {
-    use super::super::parry_bridge::{link_shape, to_parry};
+    use super::super::parry_bridge::{link_shape, to_parry, world_bounds};
     use super::*;
     use crate::kinematics::Shape;
     use crate::math::Pose;
@@ -198,6 +227,23 @@ mod tests {
             // A capsule's and a ball's radius is their rounding about the core.
             let ours = (core.core_distance(&p) - core.radius).max(0.0);
             prop_assert!((ours - exact).abs() < 1e-5, "ours {} exact {}", ours, exact);
+        }
+
+        /// The box is parry's own bounding box of the shape (to f32 rounding).
+        #[test]
+        fn the_bounds_are_parrys_bounding_box(
+            kind in 0usize..4,
+            padded in any::<bool>(),
+            rpy in prop::array::uniform3(-3.2f64..3.2),
+            at in prop::array::uniform3(-0.5f64..0.5),
+        ) {
+            let (shape, _, pose) = posed(kind, if padded { 0.02 } else { 0.0 }, rpy, at);
+            let ours = ShapeCore::of(&shape, &pose).unwrap().bounds(0.0);
+            let parrys = world_bounds(&pose, &shape, 0.0);
+            for a in 0..3 {
+                prop_assert!((ours.0[a] - parrys.0[a]).abs() < 1e-5, "{:?} {:?}", ours, parrys);
+                prop_assert!((ours.1[a] - parrys.1[a]).abs() < 1e-5, "{:?} {:?}", ours, parrys);
+            }
         }
 
         /// What a bound settles is what a dense sampling of the cube says: a cube said to

@@ -88,12 +88,14 @@ impl VoxelObstacles {
     ///
     /// `sphere` (centre, radius) encloses the shape: voxels whose centre is farther than
     /// `radius` plus half the voxel diagonal are skipped before the exact test. The exact
-    /// test is GJK only where the distance from the voxel's centre to the shape's core
-    /// leaves it open ([`ShapeCore::touches_cube`]).
+    /// test is GJK only where the distance from the voxel's centre to the shape's `core`
+    /// (the shape's, at `pose`) leaves it open ([`ShapeCore::touches_cube`]); without a
+    /// core, GJK everywhere.
     pub fn for_each_hit(
         &self,
         pose: &ParryPose,
         shape: &ParryShape,
+        core: Option<&ShapeCore>,
         bounds: &Bounds,
         sphere: ([f64; 3], f64),
         mut visit: impl FnMut(usize) -> bool,
@@ -104,12 +106,27 @@ impl VoxelObstacles {
         let [nx, ny, _] = self.geometry.dims();
         let reach = sphere.1 + 0.5 * 3f64.sqrt() * self.geometry.resolution();
         let reach2 = reach * reach;
-        let core = ShapeCore::of(shape, pose);
-        let half = 0.5 * self.geometry.resolution();
+        let res = self.geometry.resolution();
+        let half = 0.5 * res;
+        let min_x = self.geometry.min()[0];
         for z in lo[2]..=hi[2] {
             for y in lo[1]..=hi[1] {
+                // The row's centres within the sphere's chord (one voxel to spare each
+                // side; the test below is exact).
+                let c = self.geometry.center([lo[0], y, z]);
+                let across = reach2 - (c.y - sphere.0[1]).powi(2) - (c.z - sphere.0[2]).powi(2);
+                if across < 0.0 {
+                    continue;
+                }
+                let chord = across.sqrt();
+                let from = ((sphere.0[0] - chord - min_x) / res - 1.5).floor().max(0.0) as usize;
+                let to = ((sphere.0[0] + chord - min_x) / res + 0.5).ceil();
+                let (x0, x1) = (from.max(lo[0]), (to.max(0.0) as usize).min(hi[0]));
+                if x0 > x1 {
+                    continue;
+                }
                 let row = nx * (y + ny * z);
-                let (first, last) = (row + lo[0], row + hi[0]);
+                let (first, last) = (row + x0, row + x1);
                 // Walk the set bits of [first, last] word by word.
                 for w in first / 64..=last / 64 {
                     let mut word = self.bits[w];
