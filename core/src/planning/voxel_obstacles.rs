@@ -11,6 +11,9 @@ use crate::occupancy::{GridGeometry, ReducedMap};
 pub(crate) struct VoxelObstacles {
     geometry: GridGeometry,
     bits: Vec<u64>,
+    /// Per row of the lattice (`y + ny·z`), the first and last x of its obstacle voxels
+    /// (`first > last`: none). Removals leave it as it was: it only ever bounds the set.
+    rows: Vec<(usize, usize)>,
     count: usize,
     cube: ParryShape,
 }
@@ -20,12 +23,17 @@ impl VoxelObstacles {
     pub fn from_reduced_map(map: &ReducedMap) -> Self {
         let geometry = *map.geometry();
         let mut bits = vec![0u64; geometry.len().div_ceil(64)];
+        let [nx, ny, nz] = geometry.dims();
+        let mut rows = vec![(usize::MAX, 0); ny * nz];
         for &l in map.occupied().iter().chain(map.unknown()) {
             bits[l / 64] |= 1 << (l % 64);
+            let (row, x) = (l / nx, l % nx);
+            rows[row] = (rows[row].0.min(x), rows[row].1.max(x));
         }
         Self {
             geometry,
             bits,
+            rows,
             count: map.len(),
             cube: cube(0.5 * geometry.resolution()),
         }
@@ -111,6 +119,11 @@ impl VoxelObstacles {
         let min_x = self.geometry.min()[0];
         for z in lo[2]..=hi[2] {
             for y in lo[1]..=hi[1] {
+                let (set_from, set_to) = self.rows[y + ny * z];
+                let (x0, x1) = (lo[0].max(set_from), hi[0].min(set_to));
+                if x0 > x1 {
+                    continue;
+                }
                 // The row's centres within the sphere's chord (one voxel to spare each
                 // side; the test below is exact).
                 let c = self.geometry.center([lo[0], y, z]);
@@ -121,7 +134,7 @@ impl VoxelObstacles {
                 let chord = across.sqrt();
                 let from = ((sphere.0[0] - chord - min_x) / res - 1.5).floor().max(0.0) as usize;
                 let to = ((sphere.0[0] + chord - min_x) / res + 0.5).ceil();
-                let (x0, x1) = (from.max(lo[0]), (to.max(0.0) as usize).min(hi[0]));
+                let (x0, x1) = (from.max(x0), (to.max(0.0) as usize).min(x1));
                 if x0 > x1 {
                     continue;
                 }
