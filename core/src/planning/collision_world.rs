@@ -404,6 +404,61 @@ mod tests {
         (ReducedMap::from_grid(&grid), l)
     }
 
+    /// Every voxel reported touching a link lies within a voxel's half diagonal of a link,
+    /// and every voxel whose centre lies deeper in a link than a voxel's half edge is
+    /// reported: the test is the links' geometry, not GJK's approximation of it (parry's
+    /// GJK reports contact millimetres off the padded links' rounded shapes).
+    #[test]
+    fn reported_voxels_are_those_the_links_geometry_touches() {
+        let r = robot();
+        let q = calibration();
+        let g = GridGeometry::new(
+            Point3::new(0.6, -0.3, 0.9),
+            Point3::new(1.3, 0.3, 1.5),
+            0.02,
+        )
+        .unwrap();
+        let all = vec![1.0f32; g.len()];
+        let grid = OccupancyGrid::from_log_odds(g, OccupancyParams::default(), all).unwrap();
+        let map = ReducedMap::from_grid(&grid);
+        let w = CollisionWorld::new(&r, &[]).unwrap().with_reduced_map(&map);
+        let half = 0.5 * g.resolution();
+        let (mut deep, mut shell) = (0, 0);
+        // The calibration pose and each wrist joint turned by a few angles (parry's GJK
+        // reports contact with voxels 22 mm from a link by centre at some of them).
+        let wrist = (3..6).flat_map(|k| [0.0, 0.52, -1.12, 2.09].map(|t| (k, t)));
+        for (k, t) in wrist {
+            let mut q = q;
+            q[k] += t;
+            let touching = w.colliding_voxels(&q);
+            let cores: Vec<ShapeCore> = w.posed_links(&q).iter().filter_map(|p| p.core).collect();
+            assert_eq!(cores.len(), w.link_shape_count());
+            for l in 0..g.len() {
+                let c = g.center(g.unlinear(l).unwrap());
+                let nearest = cores
+                    .iter()
+                    .map(|k| k.distance(&c))
+                    .fold(f64::INFINITY, f64::min);
+                let reported = touching.binary_search(&l).is_ok();
+                if reported {
+                    assert!(
+                        nearest <= half * 3f64.sqrt() + 1e-3,
+                        "voxel {l} {nearest} m off"
+                    );
+                    shell += usize::from(nearest > half);
+                }
+                if nearest < half - 1e-3 {
+                    assert!(
+                        reported,
+                        "voxel {l} {nearest} m inside a link, not reported"
+                    );
+                    deep += 1;
+                }
+            }
+        }
+        assert!(deep > 50 && shell > 0, "{deep} deep, {shell} in the shell");
+    }
+
     #[test]
     fn voxels_are_obstacles_and_can_be_ignored() {
         let r = robot();

@@ -121,6 +121,12 @@ impl ShapeCore {
         ([lo.x, lo.y, lo.z], [hi.x, hi.y, hi.z])
     }
 
+    /// The distance from the world point `p` to the shape (negative inside, down to minus
+    /// the radius).
+    pub fn distance(&self, p: &Point3<f64>) -> f64 {
+        self.core_distance(p) - self.radius
+    }
+
     /// The distance from the world point `p` to the core.
     fn core_distance(&self, p: &Point3<f64>) -> f64 {
         let local = self.to_local * (p.coords - self.origin);
@@ -149,7 +155,7 @@ impl ShapeCore {
     /// cube reaches into it, `None` in the shell between (each with [`TOLERANCE`] to
     /// spare).
     pub fn touches_cube(&self, centre: &Point3<f64>, half: f64) -> Option<bool> {
-        let outside = self.core_distance(centre) - self.radius;
+        let outside = self.distance(centre);
         if outside > half * 3f64.sqrt() + TOLERANCE {
             Some(false)
         } else if outside < half - TOLERANCE {
