@@ -78,6 +78,26 @@ struct PosedShape {
     sphere: ([f64; 3], f64),
 }
 
+impl PosedShape {
+    /// Visits the obstacle voxels this posed `shape` touches
+    /// ([`VoxelObstacles::for_each_hit`]).
+    fn voxel_hits(
+        &self,
+        voxels: &VoxelObstacles,
+        shape: &ParryShape,
+        visit: impl FnMut(usize) -> bool,
+    ) -> bool {
+        voxels.for_each_hit(
+            &self.pose,
+            shape,
+            self.core.as_ref(),
+            &self.bounds,
+            self.sphere,
+            visit,
+        )
+    }
+}
+
 #[derive(Debug, Clone)]
 struct ObstacleEntry {
     name: String,
@@ -277,17 +297,10 @@ impl CollisionWorld {
         if let Some(voxels) = &self.voxels {
             for (s, p) in shapes.iter().zip(&posed) {
                 let mut hit = None;
-                voxels.for_each_hit(
-                    &p.pose,
-                    &s.shape,
-                    p.core.as_ref(),
-                    &p.bounds,
-                    p.sphere,
-                    |l| {
-                        hit = Some(l);
-                        false
-                    },
-                );
+                p.voxel_hits(voxels, &s.shape, |l| {
+                    hit = Some(l);
+                    false
+                });
                 if let Some(linear) = hit {
                     return Some(Collision {
                         link: s.link.clone(),
@@ -311,17 +324,10 @@ impl CollisionWorld {
         };
         let mut out = Vec::new();
         for (s, p) in self.links.shapes.iter().zip(self.posed_links(q)) {
-            voxels.for_each_hit(
-                &p.pose,
-                &s.shape,
-                p.core.as_ref(),
-                &p.bounds,
-                p.sphere,
-                |l| {
-                    out.push(l);
-                    true
-                },
-            );
+            p.voxel_hits(voxels, &s.shape, |l| {
+                out.push(l);
+                true
+            });
         }
         out.sort_unstable();
         out.dedup();

@@ -389,7 +389,7 @@ fn chunk_sums(
         linear: ChunkLinear {
             source: pair.source,
             target: pair.target,
-            inliers: Vec::new(),
+            inliers: Vec::with_capacity(CHUNK),
         },
     };
     let used = pair.used(views);
