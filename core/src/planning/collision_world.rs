@@ -244,7 +244,7 @@ impl CollisionWorld {
                 let world = frames[s.frame] * s.local;
                 let pose = to_parry(&world);
                 let t = world.translation.vector;
-                let core = ShapeCore::of(&s.shape, &pose);
+                let core = s.core.map(|k| k.posed(&pose));
                 PosedShape {
                     pose,
                     core,

@@ -3,6 +3,7 @@
 
 use super::PlanningError;
 use super::parry_bridge::{ParryShape, bounding_radius, link_shape};
+use super::shape_core::ShapeCore;
 use crate::kinematics::Robot;
 use crate::math::Pose;
 
@@ -19,6 +20,8 @@ pub(crate) struct LinkShape {
     pub local: Pose,
     /// The shape.
     pub shape: ParryShape,
+    /// The shape's core and rounding, at the shape's origin.
+    pub core: Option<ShapeCore>,
     /// Radius of a sphere about the shape's centre (the URDF origin) enclosing the URDF
     /// primitive, without padding (m).
     pub radius: f64,
@@ -66,6 +69,7 @@ impl RobotShapes {
                 body,
                 link: g.link.clone(),
                 local: g.origin * fix,
+                core: ShapeCore::of(&shape),
                 shape,
                 radius: bounding_radius(&g.shape),
             });

@@ -42,8 +42,8 @@ pub(crate) struct ShapeCore {
 }
 
 impl ShapeCore {
-    /// The core of `shape` at `pose`; `None` for a kind it does not know (a mesh).
-    pub fn of(shape: &ParryShape, pose: &ParryPose) -> Option<Self> {
+    /// The core of `shape` at the origin; `None` for a kind it does not know (a mesh).
+    pub fn of(shape: &ParryShape) -> Option<Self> {
         let v =
             |p: parry3d::math::Vector| Vector3::new(f64::from(p.x), f64::from(p.y), f64::from(p.z));
         let (core, radius) = if let Some(b) = shape.as_ball() {
@@ -77,6 +77,16 @@ impl ShapeCore {
         } else {
             return None;
         };
+        Some(Self {
+            core,
+            radius,
+            to_local: Matrix3::identity(),
+            origin: Vector3::zeros(),
+        })
+    }
+
+    /// The same core placed at `pose` (the shape's pose in the world).
+    pub fn posed(self, pose: &ParryPose) -> Self {
         let q = pose.rotation;
         let rotation = UnitQuaternion::from_quaternion(Quaternion::new(
             f64::from(q.w),
@@ -84,12 +94,12 @@ impl ShapeCore {
             f64::from(q.y),
             f64::from(q.z),
         ));
-        Some(Self {
-            core,
-            radius,
+        let t = pose.translation;
+        Self {
             to_local: rotation.to_rotation_matrix().into_inner().transpose(),
-            origin: v(pose.translation),
-        })
+            origin: Vector3::new(f64::from(t.x), f64::from(t.y), f64::from(t.z)),
+            ..self
+        }
     }
 
     /// The world axis-aligned box of the shape (exact: the core's box grown by the
@@ -223,7 +233,7 @@ mod tests {
             point in prop::array::uniform3(-0.4f64..0.4),
         ) {
             let (_, inner, pose) = posed(kind, 0.0, rpy, at);
-            let core = ShapeCore::of(&inner, &pose).unwrap();
+            let core = ShapeCore::of(&inner).unwrap().posed(&pose);
             let p = Point3::from(point);
             let exact = f64::from(inner.distance_to_point(
                 &pose,
@@ -244,7 +254,7 @@ mod tests {
             at in prop::array::uniform3(-0.5f64..0.5),
         ) {
             let (shape, _, pose) = posed(kind, if padded { 0.02 } else { 0.0 }, rpy, at);
-            let ours = ShapeCore::of(&shape, &pose).unwrap().bounds(0.0);
+            let ours = ShapeCore::of(&shape).unwrap().posed(&pose).bounds(0.0);
             let parrys = world_bounds(&pose, &shape, 0.0);
             for a in 0..3 {
                 prop_assert!((ours.0[a] - parrys.0[a]).abs() < 1e-5, "{:?} {:?}", ours, parrys);
@@ -266,7 +276,7 @@ mod tests {
         ) {
             let padding = if padded { 0.02 } else { 0.0 };
             let (shape, _, pose) = posed(kind, padding, rpy, at);
-            let core = ShapeCore::of(&shape, &pose).unwrap();
+            let core = ShapeCore::of(&shape).unwrap().posed(&pose);
             let centre = Point3::from(voxel);
             const N: i32 = 8;
             let nearest = (0..=N)
@@ -302,7 +312,7 @@ mod tests {
             .normalize(),
         );
         let voxel = [0.47, 0.05, 0.74];
-        let core = ShapeCore::of(&shape, &pose).unwrap();
+        let core = ShapeCore::of(&shape).unwrap().posed(&pose);
         assert_eq!(core.touches_cube(&Point3::from(voxel), 0.01), Some(false));
         let gap = core.core_distance(&Point3::from(voxel)) - core.radius - 0.01 * 3f64.sqrt();
         assert!(gap > 0.0, "{gap}");
@@ -313,7 +323,7 @@ mod tests {
         for shape in shapes() {
             let (shape, fix) = link_shape(&shape, 0.01).unwrap();
             let pose = to_parry(&fix);
-            let core = ShapeCore::of(&shape, &pose).unwrap();
+            let core = ShapeCore::of(&shape).unwrap().posed(&pose);
             assert_eq!(core.touches_cube(&Point3::origin(), 0.005), Some(true));
             assert_eq!(
                 core.touches_cube(&Point3::new(1.0, 0.0, 0.0), 0.005),
@@ -332,7 +342,7 @@ mod tests {
             0.0,
         )
         .unwrap();
-        let core = ShapeCore::of(&shape, &to_parry(&fix)).unwrap();
+        let core = ShapeCore::of(&shape).unwrap().posed(&to_parry(&fix));
         // URDF cylinders run along z: 0.3 m beside the axis, 0.1 m past the end cap.
         let beside = core.core_distance(&Point3::new(0.3, 0.0, 0.0));
         let beyond = core.core_distance(&Point3::new(0.0, 0.0, 0.3));
