@@ -443,7 +443,7 @@ mod tests {
                 let c = g.center(g.unlinear(l).unwrap());
                 let nearest = cores
                     .iter()
-                    .map(|k| k.distance(&c))
+                    .map(|core| core.distance(&c))
                     .fold(f64::INFINITY, f64::min);
                 let reported = touching.binary_search(&l).is_ok();
                 if reported {

@@ -1,6 +1,8 @@
 //! [`VoxelObstacles`]: the reduced map's occupied and unknown voxels as obstacles, kept as
-//! a bitset over the dense lattice, with a broad phase that walks only the voxels a shape's
-//! bounding box overlaps.
+//! a bitset over the dense lattice, with a broad phase that walks only the lattice rows a
+//! shape's bounding box overlaps, each clipped to its obstacles' x range and to the chord
+//! of the shape's bounding sphere; the exact test is settled by the distance to the
+//! shape's core where it can be ([`ShapeCore`]) and by parry's GJK only where it cannot.
 
 use super::parry_bridge::{Bounds, ParryPose, ParryShape, cube, intersects, translation};
 use super::shape_core::ShapeCore;
