@@ -2,7 +2,7 @@
 //! (via `tobj`), with typed errors.
 //!
 //! Readers merge vertices with bit-identical coordinates (STL stores every triangle's
-//! corners separately), so a watertight mesh written by [`write_stl`] reads back watertight.
+//! corners separately), so a watertight mesh written by [`write_stl_file`] reads back watertight.
 //! Writers are deterministic: the same mesh gives the same bytes. [`write_stl_file`] writes
 //! atomically (a temporary file in the destination directory, then a rename).
 

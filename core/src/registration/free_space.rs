@@ -185,7 +185,7 @@ impl FreeSpace {
     }
 
     /// The free space of a scan cloud (points and their sensor origins) within `[lo,
-    /// hi]`, tested within [`RADIUS_PER_SPACING`] of the median gap between neighbouring
+    /// hi]`, tested within 0.6 times the median gap between neighbouring
     /// hits in the region, each ray ending `margin` short of its hit. `Ok(None)` for a
     /// cloud without origins or with fewer than two hits in the region.
     pub fn of_scan(
