@@ -4,7 +4,9 @@
 //! past the reference's edge nor a box's edges under noise drag a view off the truth; the
 //! laser's free space pulls a view slid along a box's top back; matching along the
 //! camera's rays agrees with the nearest point on noise-free views and brings a noisy view of a thin
-//! cylinder closer; the objective never rises; the result is the same at any thread count.
+//! cylinder closer; the objective never rises; the result is the same at any thread count;
+//! a run started where another ended stays there, and refined along the rays from the
+//! nearest points' solution it ends where the two stages of one run end.
 
 use nalgebra::{Isometry3, Point3, Unit, UnitQuaternion, Vector3};
 use nbv_core::cloud::PointCloud;
@@ -12,7 +14,8 @@ use nbv_core::evaluation::alignment_error;
 use nbv_core::math::Pose;
 use nbv_core::registration::{
     FreeSpace, MapPreparation, MapReport, Method, MethodReport, PosePrior, RangeNoise,
-    Registration, RegistrationParams, ViewModel, register_prepared, register_with_models,
+    Registration, RegistrationError, RegistrationParams, ViewModel, register_prepared,
+    register_prepared_from, register_with_models,
 };
 use nbv_fixtures::SyntheticSweep;
 use proptest::prelude::*;
@@ -139,6 +142,52 @@ fn a_known_offset_returns_to_truth_within_the_noise_bound() {
     assert!(end < 0.5 * start, "{end} vs {start}");
     assert!(end < 1.5e-3, "end {end} (start {start})");
     assert_eq!(r.poses[0], initial[0]);
+}
+
+/// A run started where another ended (the pipeline's calibrated passes) ends where that
+/// one ended: the priors stay centred on the initial poses, so the objective and each
+/// view's correction are those of the first run; one start pose per view is required.
+#[test]
+fn a_run_started_where_another_ended_stays_there() {
+    let error = Pose::from_parts(
+        Vector3::new(0.003, 0.002, -0.002).into(),
+        UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.6f64.to_radians()),
+    );
+    let views = two_views(&error, 0.004, 11);
+    let prior = PosePrior {
+        rotation_sigma: 0.6f64.to_radians(),
+        translation_sigma: 0.004,
+    };
+    let models = models(2, 0.004, prior);
+    let params = params();
+    let initial = vec![Pose::identity(); 2];
+    let prepared = MapPreparation::new(&views, &models, &params).unwrap();
+    let first = register_prepared(&prepared, &views, &initial, &models, &params).unwrap();
+    let again = register_prepared_from(&prepared, &views, &initial, &first.poses, &models, &params)
+        .unwrap();
+    let (a, b) = (map_report(&first), map_report(&again));
+    assert!(a.accepted && b.accepted, "{} / {}", a.verdict, b.verdict);
+    assert_eq!(a.objective_initial, b.objective_initial);
+    assert!(b.objective_final <= a.objective_final * (1.0 + 1e-9) + 1e-9);
+    // Measured: the second run takes one step of well under a micrometre.
+    let moved = first.poses[1].inverse() * again.poses[1];
+    let centre = views[1].centroid().unwrap();
+    assert!((moved * centre - centre).norm() < 1e-5, "{moved}");
+    assert!(moved.rotation.angle() < 0.001f64.to_radians(), "{moved}");
+    for (x, y) in a.views[1].correction.iter().zip(&b.views[1].correction) {
+        assert!(
+            (x - y).abs() < 2e-5,
+            "{:?} vs {:?}",
+            a.views[1].correction,
+            b.views[1].correction
+        );
+    }
+    let short =
+        register_prepared_from(&prepared, &views, &initial, &initial[..1], &models, &params);
+    assert!(matches!(
+        short,
+        Err(RegistrationError::PoseCountMismatch { views: 2, poses: 1 })
+    ));
 }
 
 /// Points of an upright cylinder about the z axis (`radius`, `height`; its radius
@@ -292,6 +341,50 @@ fn handle_views(sigma: f64, seed: u64, error: &Pose) -> (Vec<PointCloud>, Vec<Po
     );
     camera.transform(&mount.inverse());
     (vec![reference, camera], vec![Pose::identity(), mount])
+}
+
+/// The pipeline's refinement: matching along the rays from the start, in a run started
+/// where the nearest points' run ended (with the same priors), ends where one run with
+/// both stages ends (`along_rays`: nearest points until converged, then along the rays).
+#[test]
+fn refining_along_the_rays_from_the_nearest_solution_ends_where_both_stages_end() {
+    let error = Pose::from_parts(
+        Vector3::new(0.003, -0.002, 0.001).into(),
+        UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 0.4f64.to_radians()),
+    );
+    let prior = PosePrior {
+        rotation_sigma: 0.5f64.to_radians(),
+        translation_sigma: 0.004,
+    };
+    let models = models(2, 0.004, prior);
+    for seed in [41, 42] {
+        let (views, initial) = handle_views(0.004, seed, &error);
+        let prepared = MapPreparation::new(&views, &models, &params()).unwrap();
+        let nearest = register_prepared(&prepared, &views, &initial, &models, &params()).unwrap();
+        let mut rays = params();
+        rays.map.along_rays = true;
+        let both = register_prepared(&prepared, &views, &initial, &models, &rays).unwrap();
+        rays.map.rays_from_start = true;
+        let refined =
+            register_prepared_from(&prepared, &views, &initial, &nearest.poses, &models, &rays)
+                .unwrap();
+        assert!(
+            map_report(&refined).accepted,
+            "{}",
+            map_report(&refined).verdict
+        );
+        // The two agree to under 10 µm; the refinement moved the view 0.3 and 0.9 mm
+        // (measured) from the nearest points' solution.
+        let apart = both.poses[1].inverse() * refined.poses[1];
+        let centre = views[1].centroid().unwrap();
+        assert!((apart * centre - centre).norm() < 1e-5, "{apart}");
+        assert!(apart.rotation.angle() < 1e-4, "{apart}");
+        let moved = nearest.poses[1].inverse() * refined.poses[1];
+        println!(
+            "refinement moved the view {:.3} mm",
+            (moved * centre - centre).norm() * 1e3
+        );
+    }
 }
 
 /// Noise-free points of a view started at the truth: matched where their rays cross the

@@ -29,7 +29,12 @@
 //! errors, matching along the rays from the start left 2 of 60 registrations of Table III
 //! above 0.3× of their error as acquired, and one over 10 mm; from the nearest points'
 //! solution none). The rays' stages may run up to `max_stages` again: that is most of the
-//! ~1.6× time the option costs.
+//! ~1.6× time the option costs. A run that starts near its solution
+//! ([`register_prepared_from`](super::register_prepared_from), started where an earlier
+//! run ended: the pipeline's refinement of each object's final registration) has nothing
+//! left to capture and with
+//! [`MapParams::rays_from_start`](super::MapParams::rays_from_start) matches along the
+//! rays from its first stage.
 //!
 //! Acceptance: every view's correction must pass the χ² gate of its prior (6 degrees of
 //! freedom); the view farthest beyond it is held at its prior and the rest solved again,
@@ -84,11 +89,13 @@ struct State {
     objective: f64,
 }
 
-/// Runs the MAP registration on checked input with one [`ViewModel`] per view.
+/// Runs the MAP registration on checked input with one [`ViewModel`] per view, from the
+/// poses `start` (the priors are centred on `initial`).
 pub(crate) fn run(
     prepared: &MapPreparation,
     clouds: &[PointCloud],
     initial: &[Pose],
+    start: &[Pose],
     models: &[ViewModel],
     params: &RegistrationParams,
 ) -> Result<Registration, RegistrationError> {
@@ -106,8 +113,9 @@ pub(crate) fn run(
         floor: map.floor_sigma,
         max_distance: params.max_correspondence_distance,
         // Matching along the rays refines: the first stages match nearest points, which
-        // capture a view from farther off (see the loop below).
-        along_rays: false,
+        // capture a view from farther off (see the loop below), unless the run starts near
+        // its solution.
+        along_rays: map.along_rays && map.rays_from_start,
     };
     let reference = params.reference;
     let pairs = select_pairs(
@@ -135,7 +143,17 @@ pub(crate) fn run(
     let w = clouds.len();
     let mut held = vec![false; w];
     let identity = vec![Pose::identity(); w];
-    let mut corrections = identity.clone();
+    // The start: each view's correction from its initial pose to its starting pose.
+    let mut corrections: Vec<Pose> = (0..w)
+        .map(|v| {
+            // Exactly the identity where the run starts at the initial pose.
+            if v == reference || start[v] == initial[v] {
+                Pose::identity()
+            } else {
+                start[v] * initial[v].inverse()
+            }
+        })
+        .collect();
     let (mut iterations, mut evaluations) = (0, 0);
     let mut stages = 0;
     let (state, stop) = loop {

@@ -181,7 +181,14 @@ pub fn register_with_models(
     match params.method {
         Method::Map => {
             let prepared = MapPreparation::new(views, models, params)?;
-            map::run(&prepared, views, initial_poses, models, params)
+            map::run(
+                &prepared,
+                views,
+                initial_poses,
+                initial_poses,
+                models,
+                params,
+            )
         }
         Method::Gpa => gpa::run(views, initial_poses, params),
         Method::SequentialIcp { point_to_plane } => {
@@ -209,7 +216,38 @@ pub fn register_prepared(
         ));
     }
     prepared.check_matches(views, models, params)?;
-    map::run(prepared, views, initial_poses, models, params)
+    map::run(
+        prepared,
+        views,
+        initial_poses,
+        initial_poses,
+        models,
+        params,
+    )
+}
+
+/// [`register_prepared`] started from `start_poses` rather than from `initial_poses`: the
+/// priors stay centred on `initial_poses` (the reported or calibrated poses), the solver
+/// starts where another run ended. The report's initial objective is still the one at
+/// `initial_poses`. Errors as [`register_prepared`] does, and with
+/// [`RegistrationError::PoseCountMismatch`] when `start_poses` is not one pose per view.
+pub fn register_prepared_from(
+    prepared: &MapPreparation,
+    views: &[PointCloud],
+    initial_poses: &[Pose],
+    start_poses: &[Pose],
+    models: &[ViewModel],
+    params: &RegistrationParams,
+) -> Result<Registration, RegistrationError> {
+    check_input(views, initial_poses, models, params)?;
+    view_tree::check_views(views, start_poses, params.reference)?;
+    if params.method != Method::Map {
+        return Err(RegistrationError::PreparationMismatch(
+            "a MAP preparation registers with method map only".into(),
+        ));
+    }
+    prepared.check_matches(views, models, params)?;
+    map::run(prepared, views, initial_poses, start_poses, models, params)
 }
 
 /// The checks every registration runs on its input: valid parameters, the views

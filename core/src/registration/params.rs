@@ -138,6 +138,12 @@ pub struct MapParams {
     /// alignment error in Table III and on held-out seeds but costs ~1.6× the
     /// registration's time (benches/README, "What limits a camera view's registration").
     pub along_rays: bool,
+    /// With `along_rays`, match along the rays from the first stage, without the nearest
+    /// points' stages: for a run that starts near its solution, where nothing is left to
+    /// capture (the pipeline's refinement of each object's final registration, started
+    /// where it ended: [`register_prepared_from`](super::register_prepared_from)). Default
+    /// false.
+    pub rays_from_start: bool,
 }
 
 impl Default for MapParams {
@@ -156,6 +162,7 @@ impl Default for MapParams {
             pair_points: 600,
             surface_neighbours: 16,
             along_rays: false,
+            rays_from_start: false,
         }
     }
 }
