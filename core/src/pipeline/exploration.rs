@@ -5,7 +5,7 @@ use super::ExplorationMap;
 use super::episode::Episode;
 use super::hand_eye::estimate_hand_eye;
 use super::object_loop::explore_object;
-use super::register_views::{register_calibrated, register_object};
+use super::register_views::{refine_along_rays, register_calibrated, register_object};
 use super::step_timer::timed;
 use super::{
     Exploration, ExploreConfig, ExploreEvent, ExploreMode, ExploreObserver, HandEyeEstimate,
@@ -116,6 +116,19 @@ pub fn explore(
     } else {
         None
     };
+    if config.refine_along_rays {
+        for (object, prepared) in objects.iter_mut().zip(&preparations) {
+            let Some(prepared) = prepared else {
+                continue;
+            };
+            let mut seconds = 0.0;
+            let outcome = timed(&mut seconds, || refine_along_rays(object, prepared, config));
+            object.times.registration += seconds;
+            if let Err(e) = outcome {
+                object.registration_error = Some(e.to_string());
+            }
+        }
+    }
     Ok(Exploration {
         mode: config.mode,
         phase_one: phase_report,

@@ -13,7 +13,7 @@ use crate::math::Pose;
 use crate::perception::WorkcellAlignment;
 use crate::registration::{
     FreeSpace, MapPreparation, Method, MethodReport, PosePrior, Registration, RegistrationError,
-    RegistrationParams, ViewModel, register, register_prepared,
+    RegistrationParams, ViewModel, register, register_prepared, register_prepared_from,
 };
 
 /// Evenly keeps at most `n` points of `cloud` (all columns); 0 keeps all.
@@ -206,6 +206,48 @@ pub(super) fn register_calibrated(
     r.map_initial = initial;
     r.map_accepted = true;
     r.calibrated = true;
+    Ok(true)
+}
+
+/// The object's accepted MAP registration refined along the camera's rays: started where
+/// it ended, with the same initial poses and priors, every camera point matched where its
+/// viewing ray crosses the laser cluster ([`MapParams::rays_from_start`]). It replaces the
+/// registration when accepted; `Ok(false)` leaves it (not accepted, or nothing to refine).
+///
+/// [`MapParams::rays_from_start`]: crate::registration::MapParams::rays_from_start
+pub(super) fn refine_along_rays(
+    object: &mut ObjectExploration,
+    prepared: &MapPreparation,
+    config: &ExploreConfig,
+) -> Result<bool, RegistrationError> {
+    let Some(r) = object.registration.as_mut().filter(|r| r.map_accepted) else {
+        return Ok(false);
+    };
+    let mut map_params = params(config, Method::Map);
+    if map_params.map.along_rays {
+        return Ok(false);
+    }
+    map_params.map.along_rays = true;
+    map_params.map.rays_from_start = true;
+    let mut map = register_prepared_from(
+        prepared,
+        &r.views,
+        &r.map_initial,
+        &r.map.poses,
+        &r.models,
+        &map_params,
+    )?;
+    if !map_accepted(&map) {
+        return Ok(false);
+    }
+    if let MethodReport::Map(report) = &mut map.report {
+        report.verdict = format!(
+            "refined along the camera's rays from the {} registration: {}",
+            if r.calibrated { "calibrated" } else { "first" },
+            report.verdict
+        );
+    }
+    r.map = map;
     Ok(true)
 }
 
