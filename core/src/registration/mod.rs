@@ -209,14 +209,7 @@ pub fn register_prepared(
     models: &[ViewModel],
     params: &RegistrationParams,
 ) -> Result<Registration, RegistrationError> {
-    check_input(views, initial_poses, models, params)?;
-    if params.method != Method::Map {
-        return Err(RegistrationError::PreparationMismatch(
-            "a MAP preparation registers with method map only".into(),
-        ));
-    }
-    prepared.check_matches(views, models, params)?;
-    map::run(
+    register_prepared_from(
         prepared,
         views,
         initial_poses,
