@@ -233,7 +233,12 @@ pub fn register_prepared_from(
     params: &RegistrationParams,
 ) -> Result<Registration, RegistrationError> {
     check_input(views, initial_poses, models, params)?;
-    view_tree::check_views(views, start_poses, params.reference)?;
+    if start_poses.len() != views.len() {
+        return Err(RegistrationError::PoseCountMismatch {
+            views: views.len(),
+            poses: start_poses.len(),
+        });
+    }
     if params.method != Method::Map {
         return Err(RegistrationError::PreparationMismatch(
             "a MAP preparation registers with method map only".into(),
