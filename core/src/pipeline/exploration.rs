@@ -117,17 +117,9 @@ pub fn explore(
         None
     };
     if config.refine_along_rays {
-        for (object, prepared) in objects.iter_mut().zip(&preparations) {
-            let Some(prepared) = prepared else {
-                continue;
-            };
-            let mut seconds = 0.0;
-            let outcome = timed(&mut seconds, || refine_along_rays(object, prepared, config));
-            object.times.registration += seconds;
-            if let Err(e) = outcome {
-                object.registration_error = Some(e.to_string());
-            }
-        }
+        register_again(&mut objects, &preparations, |object, prepared| {
+            refine_along_rays(object, prepared, config)
+        });
     }
     Ok(Exploration {
         mode: config.mode,
@@ -137,6 +129,29 @@ pub fn explore(
         collisions: ep.collisions,
         hand_eye,
     })
+}
+
+/// `register` run again on every object with prepared views, its time added to the
+/// object's registration time and an error kept in the object's report.
+fn register_again(
+    objects: &mut [ObjectExploration],
+    preparations: &[Option<MapPreparation>],
+    mut register: impl FnMut(
+        &mut ObjectExploration,
+        &MapPreparation,
+    ) -> Result<bool, crate::registration::RegistrationError>,
+) {
+    for (object, prepared) in objects.iter_mut().zip(preparations) {
+        let Some(prepared) = prepared else {
+            continue;
+        };
+        let mut seconds = 0.0;
+        let outcome = timed(&mut seconds, || register(object, prepared));
+        object.times.registration += seconds;
+        if let Err(e) = outcome {
+            object.registration_error = Some(e.to_string());
+        }
+    }
 }
 
 /// Calibrated registration passes at most (a safety net).
@@ -162,19 +177,9 @@ fn self_calibrate(
     };
     let mut current = estimate(objects)?;
     for pass in 1..=CALIBRATION_PASSES {
-        for (object, prepared) in objects.iter_mut().zip(preparations) {
-            let Some(prepared) = prepared else {
-                continue;
-            };
-            let mut seconds = 0.0;
-            let outcome = timed(&mut seconds, || {
-                register_calibrated(object, prepared, config, workcell, &current, robot, &frame)
-            });
-            object.times.registration += seconds;
-            if let Err(e) = outcome {
-                object.registration_error = Some(e.to_string());
-            }
-        }
+        register_again(objects, preparations, |object, prepared| {
+            register_calibrated(object, prepared, config, workcell, &current, robot, &frame)
+        });
         current.passes = pass;
         let Some(mut next) = estimate(objects) else {
             break;
