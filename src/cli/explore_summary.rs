@@ -154,7 +154,10 @@ pub fn summary(report: &ExploreReport) -> String {
              registration)\n",
         tau = QUALITY_TOLERANCE * 1e3
     );
-    let refined = report.config["registration"]["refine_along_rays"] == serde_json::json!(true);
+    // The refinement runs unless every pass already matched along the rays.
+    let registration = &report.config["registration"];
+    let refined = registration["refine_along_rays"] == serde_json::json!(true)
+        && registration["along_rays"] != serde_json::json!(true);
     s += "  (alignment: mean displacement of the true points by each view's misalignment; \
               map = the model's registration";
     if refined {
