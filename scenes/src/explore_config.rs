@@ -201,6 +201,7 @@ impl Scene {
             align_to_workcell: self.registration.align_to_workcell,
             calibrate_hand_eye: self.registration.calibrate_hand_eye,
             registration_free_space: self.registration.free_space,
+            camera_free_space: self.registration.camera_free_space,
             refine_along_rays: self.registration.refine_along_rays,
             registration_baselines: self.registration.baselines,
             registration_points: self.registration.points_per_view as usize,

@@ -10,6 +10,7 @@ use crate::kinematics::Joints;
 use crate::math::Pose;
 use crate::nbv::InformationGain;
 use crate::occupancy::FreeRay;
+use crate::registration::{DepthImageFreeSpace, RangeNoise};
 use crate::rig::{
     DepthCamera, DepthCameraSpec, DepthFrame, Rig, RigError, average_frames, depth_frame_to_cloud,
     no_return_pixels, sensor_pose, smooth_frame,
@@ -29,6 +30,9 @@ pub(super) struct Observation {
     pub cloud: PointCloud,
     /// The whole frame (world frame).
     pub frame: PointCloud,
+    /// Where the camera saw empty space (world frame at the reported pose), when the
+    /// registration uses it.
+    pub free_space: Option<DepthImageFreeSpace>,
     /// Eq. (5) over the predicted voxels.
     pub gain: InformationGain,
 }
@@ -45,7 +49,7 @@ pub(super) fn acquire_and_update(
     table: Option<&PlaneFit>,
     times: &mut StepTimes,
 ) -> Result<Observation, PipelineError> {
-    let (frame, free, joints, pose) =
+    let (frame, free, free_space, joints, pose) =
         timed(&mut times.acquisition, || -> Result<_, PipelineError> {
             let (frame, no_return) = capture_burst(rig.camera, config)?;
             let joints = rig.arm.joints()?;
@@ -53,7 +57,19 @@ pub(super) fn acquire_and_update(
             let pose = sensor_pose(&rig.robot, &rig.base, &joints, &spec.frame)?;
             let cloud = depth_frame_to_cloud(&frame, spec, &pose)?;
             let free = free_rays(&no_return, spec, &pose, config.no_return_clearing);
-            Ok((cloud, free, joints, pose))
+            let free_space = config
+                .camera_free_space
+                .then(|| {
+                    let n = config.frames_per_view.max(1);
+                    camera_free_space(
+                        &frame,
+                        spec,
+                        &pose,
+                        config.uncertainty.camera_noise.averaged(n),
+                    )
+                })
+                .transpose()?;
+            Ok((cloud, free, free_space, joints, pose))
         })?;
     let gain = timed(&mut times.mapping, || -> Result<_, PipelineError> {
         let before = map.grid.clone();
@@ -77,8 +93,27 @@ pub(super) fn acquire_and_update(
         frame_points: frame.len(),
         cloud,
         frame,
+        free_space,
         gain,
     })
+}
+
+/// Where the camera at `pose` saw empty space in `frame`: in front of each pixel's return
+/// by three of the frame's σ (`noise`: the averaged burst's).
+fn camera_free_space(
+    frame: &DepthFrame,
+    spec: &DepthCameraSpec,
+    pose: &Pose,
+    noise: RangeNoise,
+) -> Result<DepthImageFreeSpace, PipelineError> {
+    Ok(DepthImageFreeSpace::new(
+        *pose,
+        spec.focal(),
+        spec.width,
+        spec.height,
+        &frame.depth,
+        |z| 3.0 * noise.sigma(z),
+    )?)
 }
 
 /// `config.frames_per_view` frames (at least one) at the camera's current pose, averaged,
@@ -167,5 +202,63 @@ mod tests {
         }
         // Off: no ray.
         assert!(free_rays(&no_return, &spec, &pose, 0.0).is_empty());
+    }
+
+    #[test]
+    fn the_cameras_free_space_lies_in_front_of_the_frames_points() {
+        let spec = DepthCameraSpec::ipa1110();
+        let (w, h) = (spec.width, spec.height);
+        let pose = Pose::from_parts(
+            Translation3::new(0.6, -0.1, 0.7),
+            UnitQuaternion::from_euler_angles(2.8, -0.4, 1.1),
+        );
+        // A tilted wall, a hole without a return in it.
+        let depth = (0..w * h)
+            .map(|i| {
+                let (u, v) = (i % w, i / w);
+                if (100..110).contains(&u) && (50..60).contains(&v) {
+                    f32::NAN
+                } else {
+                    0.4 + 0.0005 * u as f32 + 0.0002 * v as f32
+                }
+            })
+            .collect();
+        let frame = DepthFrame {
+            time: 0.0,
+            width: w,
+            height: h,
+            depth,
+            truth: None,
+        };
+        let noise = RangeNoise::constant(0.002);
+        let free = camera_free_space(&frame, &spec, &pose, noise).unwrap();
+        let cloud = depth_frame_to_cloud(&frame, &spec, &pose).unwrap();
+        let eye = Point3::from(pose.translation.vector);
+        let (mut tested, mut hole) = (0, 0);
+        for v in (5..h - 5).step_by(7) {
+            for u in (5..w - 5).step_by(7) {
+                let ray = pose.rotation * spec.pixel_ray(u, v);
+                // Beside the hole the four pixels around a centre may include one of it.
+                if (99..=110).contains(&u)
+                    && (49..=60).contains(&v)
+                    && frame.point(&spec, u, v).is_some()
+                {
+                    continue;
+                }
+                let Some(z) = frame.point(&spec, u, v).map(|p| p.z) else {
+                    // Around the hole nothing is known.
+                    assert!(!free.contains(&(eye + ray * 0.3)));
+                    hole += 1;
+                    continue;
+                };
+                // In front of the return by more than the margin (6 mm), within it, behind.
+                assert!(free.contains(&(eye + ray * (z - 0.008))), "{u} {v}");
+                assert!(!free.contains(&(eye + ray * (z - 0.004))), "{u} {v}");
+                assert!(!free.contains(&(eye + ray * (z + 0.01))), "{u} {v}");
+                tested += 1;
+            }
+        }
+        assert!(tested > 1000 && hole > 0, "{tested} {hole}");
+        assert_eq!(cloud.len(), w * h - 100);
     }
 }

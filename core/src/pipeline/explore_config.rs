@@ -91,6 +91,9 @@ pub struct ExploreConfig {
     /// Give the MAP registration the laser sweep's free space around each object
     /// ([`sweep_free_space`](super::sweep_free_space)).
     pub registration_free_space: bool,
+    /// Give the MAP registration each camera view's own free space (its averaged depth
+    /// image, [`DepthImageFreeSpace`](crate::registration::DepthImageFreeSpace)).
+    pub camera_free_space: bool,
     /// After the registration passes (and the self-calibration's), refine each object's
     /// accepted MAP registration along the camera's rays, from where it ended.
     pub refine_along_rays: bool,

@@ -198,6 +198,7 @@ pub(super) fn explore_object(
                 sensor_pose: seen.sensor_pose,
                 frame_points: seen.frame_points,
                 cloud: seen.cloud,
+                free_space: seen.free_space,
                 gain,
                 plan: planned.stats,
                 failures_before: failures_since_view,

@@ -4,6 +4,7 @@ use crate::nbv::NbvError;
 use crate::occupancy::OccupancyError;
 use crate::perception::PerceptionError;
 use crate::planning::PlanningError;
+use crate::registration::RegistrationError;
 use crate::rig::{RigError, SensorCloudError};
 use thiserror::Error;
 
@@ -32,4 +33,7 @@ pub enum PipelineError {
     /// The planner could not be set up.
     #[error("planner: {0}")]
     Planning(#[from] PlanningError),
+    /// A view's data could not be prepared for the registration.
+    #[error("registration input: {0}")]
+    Registration(#[from] RegistrationError),
 }

@@ -114,6 +114,13 @@ pub(super) fn register_object(
     if let Some(free) = free {
         prepared = prepared.with_free_space(0, free)?;
     }
+    // Registration view k ≥ 1 is the k-th non-empty camera view.
+    let taken = object.views.iter().filter(|v| !v.cloud.is_empty());
+    for (k, view) in taken.enumerate() {
+        if let Some(free) = &view.free_space {
+            prepared = prepared.with_depth_image(k + 1, free.clone())?;
+        }
+    }
     let map = register_prepared(&prepared, &views, &initial, &models, &map_params)?;
     let (gpa, icp) = if config.registration_baselines {
         let icp_params = params(

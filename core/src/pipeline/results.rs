@@ -9,7 +9,7 @@ use crate::nbv::{InformationGain, StopReason};
 use crate::occupancy::{OccupancyGrid, ReducedMapStats, ScanUpdate};
 use crate::perception::SegmentationCounts;
 use crate::planning::PlanStats;
-use crate::registration::Registration;
+use crate::registration::{DepthImageFreeSpace, Registration};
 
 /// Wall-clock seconds per step (Table I of the paper); not part of the results' identity.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -101,6 +101,9 @@ pub struct AcquiredView {
     pub frame_points: usize,
     /// The object's points of the frame (world frame, reported pose).
     pub cloud: PointCloud,
+    /// Where the camera saw empty space (world frame, reported pose), when the
+    /// registration uses it.
+    pub free_space: Option<DepthImageFreeSpace>,
     /// Eq. (5) over O_v.
     pub gain: InformationGain,
     /// The planned path's statistics.

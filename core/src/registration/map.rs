@@ -262,7 +262,10 @@ impl Problem<'_> {
     /// Only the points flagged in `matched` (per pair) take part.
     fn mask(&mut self, matched: Vec<Vec<bool>>) {
         for (pair, m) in self.pairs.iter_mut().zip(matched) {
-            pair.mask = Some(m);
+            // A contradiction may arise anywhere as the views move.
+            if !pair.contradictions_only {
+                pair.mask = Some(m);
+            }
         }
     }
 
@@ -489,8 +492,10 @@ impl Problem<'_> {
 }
 
 /// The directed pairs of the data term: every non-reference view into the reference view
-/// (weight 1, all points) and, with `view_to_view`, into every other view (weight ½ per
-/// direction, at most `pair_points` points), kept when at least 5 % of a sample of the source's points has a
+/// (weight 1, all points); the reference into every view that knows its free space, for
+/// contradictions only (weight 1, all points); and, with `view_to_view`, every
+/// non-reference view into every other one (weight ½ per direction, at most `pair_points`
+/// points); each kept when at least 5 % of a sample of the source's points has a
 /// target point within `d_max` at the initial poses.
 fn select_pairs(
     views: &[MapView],
@@ -502,8 +507,8 @@ fn select_pairs(
 ) -> Vec<Pair> {
     let w = views.len();
     let candidates: Vec<(usize, usize)> = (0..w)
-        .filter(|&v| v != reference)
         .flat_map(|v| (0..w).filter(move |&t| t != v).map(move |t| (v, t)))
+        .filter(|&(v, t)| v != reference || views[t].free_space.is_some())
         .collect();
     let overlaps: Vec<f64> = candidates
         .par_iter()
@@ -525,15 +530,18 @@ fn select_pairs(
     candidates
         .into_iter()
         .zip(overlaps)
-        .filter(|&((_, t), overlap)| overlap >= 0.05 && (view_to_view || t == reference))
+        .filter(|&((v, t), overlap)| {
+            overlap >= 0.05 && (view_to_view || t == reference || v == reference)
+        })
         .map(|((v, t), _)| {
-            if t == reference {
+            if t == reference || v == reference {
                 Pair {
                     source: v,
                     target: t,
                     weight: 1.0,
                     stride: 1,
                     mask: None,
+                    contradictions_only: v == reference,
                 }
             } else {
                 Pair {
@@ -542,6 +550,7 @@ fn select_pairs(
                     weight: 0.5,
                     stride: views[v].len().div_ceil(pair_points.max(1)).max(1),
                     mask: None,
+                    contradictions_only: false,
                 }
             }
         })

@@ -7,8 +7,10 @@
 
 use rayon::prelude::*;
 
-use super::map_view::MapView;
-use super::{FreeSpace, RangeNoise, RegistrationError, RegistrationParams, ViewModel};
+use super::map_view::{MapView, SeenEmpty};
+use super::{
+    DepthImageFreeSpace, FreeSpace, RangeNoise, RegistrationError, RegistrationParams, ViewModel,
+};
 use crate::cloud::PointCloud;
 use crate::math::Pose;
 
@@ -87,10 +89,29 @@ impl MapPreparation {
     /// points pull nothing beyond an edge and cost the cap out of reach. A view index out
     /// of range is an error.
     pub fn with_free_space(
-        mut self,
+        self,
         view: usize,
         free_space: FreeSpace,
     ) -> Result<Self, RegistrationError> {
+        self.attach(view, SeenEmpty::Rays(free_space))
+    }
+
+    /// Attaches what view `view`'s depth camera saw to be empty ([`DepthImageFreeSpace`],
+    /// in the view's frame), as [`with_free_space`](Self::with_free_space) does a
+    /// scanner's. A camera view's free space also lets the reference's points judge it:
+    /// a reference point beyond the edge of the view's surface, where the camera saw
+    /// through, contradicts the view and is pulled back onto its edge point (the view
+    /// slid past a rim the reference saw); no other reference point is matched into the
+    /// view. A view index out of range is an error.
+    pub fn with_depth_image(
+        self,
+        view: usize,
+        free_space: DepthImageFreeSpace,
+    ) -> Result<Self, RegistrationError> {
+        self.attach(view, SeenEmpty::DepthImage(free_space))
+    }
+
+    fn attach(mut self, view: usize, seen: SeenEmpty) -> Result<Self, RegistrationError> {
         let views = self.views.len();
         let Some(v) = self.views.get_mut(view) else {
             return Err(RegistrationError::ReferenceOutOfRange {
@@ -98,7 +119,7 @@ impl MapPreparation {
                 views,
             });
         };
-        v.free_space = Some(free_space);
+        v.free_space = Some(seen);
         Ok(self)
     }
 

@@ -46,6 +46,17 @@
 //! reach against the expected cost beyond the edge rewarded exactly that, and a box's
 //! views slid along its top by up to 16 mm at three times the scenes' errors.
 //!
+//! A camera view that knows its own free space ([`DepthImageFreeSpace`]: its averaged
+//! depth image, in the pipeline) is also judged by the reference's points, for
+//! contradictions only: a reference point beyond the edge of the view's surface where the
+//! camera saw through is pulled back onto the view's edge point; every other reference
+//! point costs what a true match is expected to cost, wherever the views move. The laser's
+//! free space catches a view that slid past a rim the laser saw beyond; a view that slid
+//! the other way hangs its points over a rim the laser could not see past (the back of a
+//! box's top), where only the camera knows that its rays passed beside the rim the laser
+//! saw. Without that, the box's camera views slide along its top as far as their priors
+//! let them.
+//!
 //! The whole data term is a function of the poses alone, which is what lets the solver
 //! reject any step that raises it.
 //!
@@ -60,7 +71,7 @@ use rayon::prelude::*;
 use super::map_correspondences::PairNearest;
 use super::map_view::MapView;
 #[cfg(doc)]
-use super::{FreeSpace, MapParams};
+use super::{DepthImageFreeSpace, FreeSpace, MapParams};
 use crate::math::Pose;
 
 /// A viewing ray is followed to the target's plane only where it meets it at more than
@@ -90,6 +101,10 @@ pub(crate) struct Pair {
     /// the mask costs nothing wherever the views move, so the objective cannot gain by
     /// dragging unseen surfaces onto seen ones.
     pub mask: Option<Vec<bool>>,
+    /// Only the source points that contradict the target's free space take part (beyond
+    /// the edge of its surface where its sensor saw through); every other one costs what
+    /// a true match is expected to cost, wherever the views move.
+    pub contradictions_only: bool,
 }
 
 impl Pair {
@@ -418,6 +433,7 @@ fn chunk_sums(
             s.cost += pair.weight
                 * match seen_through() {
                     Some(false) => kernel.cost(1.0).0,
+                    None if pair.contradictions_only => kernel.cost(1.0).0,
                     _ => kernel.outlier_cost(),
                 };
             continue;
@@ -429,7 +445,7 @@ fn chunk_sums(
         // Beyond the edge where the target's sensor saw through: the point contradicts
         // the target, and is pulled back onto the edge point itself (point-to-point).
         let contradicts = beyond && seen_through() == Some(true);
-        if beyond && !contradicts {
+        if (beyond || pair.contradictions_only) && !contradicts {
             // Beyond the edge of what the target saw (see `MapView`), where it did not see
             // empty space: no pull, and the cost a true match is expected to have (m² =
             // its constrained dimensions), so sliding a point off the edge neither gains

@@ -23,6 +23,7 @@ use std::num::NonZeroUsize;
 use nalgebra::{Matrix3, Point3, Vector3};
 use rayon::prelude::*;
 
+use super::depth_image_free_space::DepthImageFreeSpace;
 use super::free_space::FreeSpace;
 use super::view_tree::ViewTree;
 use super::{RangeNoise, RegistrationError};
@@ -70,9 +71,27 @@ pub(crate) struct MapView {
     /// The sensor origin (mean of the `origins` column), else the centroid (view frame):
     /// the centre of the view's pose correction.
     pub centre: Point3<f64>,
-    /// Where this view's sensor saw empty space (view frame), when known: see
-    /// [`FreeSpace`].
-    pub free_space: Option<FreeSpace>,
+    /// Where this view's sensor saw empty space (view frame), when known.
+    pub free_space: Option<SeenEmpty>,
+}
+
+/// Where a view's sensor saw empty space: a scanner's rays marked in a grid
+/// ([`FreeSpace`]) or a depth camera's image ([`DepthImageFreeSpace`]).
+pub(crate) enum SeenEmpty {
+    /// A scan's rays (the laser sweep).
+    Rays(FreeSpace),
+    /// A depth image (a camera view).
+    DepthImage(DepthImageFreeSpace),
+}
+
+impl SeenEmpty {
+    /// Whether `p` (view frame) lies where the sensor's rays passed.
+    pub(crate) fn contains(&self, p: &Point3<f64>) -> bool {
+        match self {
+            Self::Rays(f) => f.contains(p),
+            Self::DepthImage(f) => f.contains(p),
+        }
+    }
 }
 
 impl MapView {

@@ -44,6 +44,7 @@
 //! index order and reduces sequentially, so results are bit-identical at any thread
 //! count.
 
+mod depth_image_free_space;
 mod error;
 mod free_space;
 mod gpa;
@@ -67,6 +68,7 @@ mod set_moments;
 mod view_model;
 mod view_tree;
 
+pub use depth_image_free_space::DepthImageFreeSpace;
 pub use error::RegistrationError;
 pub use free_space::FreeSpace;
 pub use icp::align;

@@ -40,6 +40,12 @@ pub struct Registration {
     /// table and left alone where the laser never looked. Default true; false is the
     /// previous release's data term (boundary rejection alone), for comparison.
     pub free_space: bool,
+    /// Give the model's MAP registration each camera view's own free space (in front of
+    /// its averaged depth image's returns): a laser point beyond the edge of a view's
+    /// surface where the camera saw through contradicts the view's pose and pulls it back
+    /// (a view slid along a box's top, past a rim the laser saw but could not see
+    /// beyond). Default true; false is the previous release.
+    pub camera_free_space: bool,
     /// Match each camera point to the laser cluster where its viewing ray crosses the
     /// cluster's surface, not at its nearest laser point (projective association): the
     /// camera's centimetre noise lies along its rays, and on a curved object the nearest
@@ -76,6 +82,7 @@ impl Default for Registration {
             align_to_workcell: true,
             calibrate_hand_eye: true,
             free_space: true,
+            camera_free_space: true,
             along_rays: false,
             refine_along_rays: true,
             baselines: true,
