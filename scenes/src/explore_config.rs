@@ -202,6 +202,7 @@ impl Scene {
             calibrate_hand_eye: self.registration.calibrate_hand_eye,
             registration_free_space: self.registration.free_space,
             camera_free_space: self.registration.camera_free_space,
+            registration_smoothing: self.registration.smoothing as usize,
             refine_along_rays: self.registration.refine_along_rays,
             registration_baselines: self.registration.baselines,
             registration_points: self.registration.points_per_view as usize,

@@ -324,3 +324,23 @@ fn bad_objective_and_cost_weight() {
         assert_eq!(scene.nbv.objective, o);
     }
 }
+
+#[test]
+fn registration_smoothing_beyond_eight_pixels_is_rejected() {
+    let with = |line: &str| {
+        env1().replace(
+            "points_per_view = 2000\n",
+            &format!("points_per_view = 2000\n{line}\n"),
+        )
+    };
+    let (key, problem) = invalid(&with("smoothing = 9"));
+    assert_eq!(key, "registration.smoothing");
+    assert!(matches!(problem, Problem::OutOfRange { .. }), "{problem}");
+    let scene = check(&with("smoothing = 0\ncamera_free_space = false")).unwrap();
+    assert_eq!(scene.registration.smoothing, 0);
+    assert!(!scene.registration.camera_free_space);
+    // Unset: the defaults.
+    let scene = check(&env1()).unwrap();
+    assert_eq!(scene.registration.smoothing, 2);
+    assert!(scene.registration.camera_free_space);
+}

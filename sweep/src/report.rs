@@ -394,14 +394,19 @@ pub fn evaluate(
         };
         let (error_unregistered, error_gpa, error_pgpa, error_icp) = match &object.registration {
             Some(r) => (
-                score(&vec![Pose::identity(); r.views.len()], true, true, &r.views),
-                score(&r.map.poses, r.map.converged, r.map_accepted, &r.views),
+                score(
+                    &vec![Pose::identity(); r.points.len()],
+                    true,
+                    true,
+                    &r.points,
+                ),
+                score(&r.map.poses, r.map.converged, r.map_accepted, &r.points),
                 r.gpa
                     .as_ref()
-                    .and_then(|g| score(&g.poses, g.converged, r.gpa_accepted, &r.views)),
+                    .and_then(|g| score(&g.poses, g.converged, r.gpa_accepted, &r.points)),
                 r.icp
                     .as_ref()
-                    .and_then(|i| score(&i.poses, i.converged, r.icp_accepted, &r.views)),
+                    .and_then(|i| score(&i.poses, i.converged, r.icp_accepted, &r.points)),
             ),
             None => (None, None, None, None),
         };
@@ -614,7 +619,7 @@ fn parts_by_view(
         return parts;
     };
     let part = |k: usize| {
-        let Some(v) = r.views.get(k) else {
+        let Some(v) = r.points.get(k) else {
             return empty();
         };
         let pose = if r.map_accepted {

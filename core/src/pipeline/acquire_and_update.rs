@@ -1,7 +1,9 @@
 //! Acquire and update (Algorithm 1): a burst of depth frames at the viewpoint reached,
 //! the frame into the grid (eq. (1)–(2)), the information gain over the voxels the view
 //! was predicted to see (eq. (5)), and the object's points of the frame — cropped to its
-//! region, the table and the known obstacles taken out.
+//! region, the table and the known obstacles taken out — and, for the registration, those
+//! of the frame smoothed ([`ExploreConfig::registration_smoothing`]) and where the camera
+//! saw empty space.
 
 use super::step_timer::timed;
 use super::{ExplorationMap, ExploreConfig, ObjectRegion, PipelineError, StepTimes};
@@ -33,6 +35,9 @@ pub(super) struct Observation {
     /// Where the camera saw empty space (world frame at the reported pose), when the
     /// registration uses it.
     pub free_space: Option<DepthImageFreeSpace>,
+    /// The object's points of the frame smoothed for the registration, cut as `cloud`
+    /// (`None`: the registration uses `cloud`).
+    pub registration_cloud: Option<PointCloud>,
     /// Eq. (5) over the predicted voxels.
     pub gain: InformationGain,
 }
@@ -49,7 +54,7 @@ pub(super) fn acquire_and_update(
     table: Option<&PlaneFit>,
     times: &mut StepTimes,
 ) -> Result<Observation, PipelineError> {
-    let (frame, free, free_space, joints, pose) =
+    let (frame, smoothed, free, free_space, joints, pose) =
         timed(&mut times.acquisition, || -> Result<_, PipelineError> {
             let (frame, no_return) = capture_burst(rig.camera, config)?;
             let joints = rig.arm.joints()?;
@@ -57,36 +62,33 @@ pub(super) fn acquire_and_update(
             let pose = sensor_pose(&rig.robot, &rig.base, &joints, &spec.frame)?;
             let cloud = depth_frame_to_cloud(&frame, spec, &pose)?;
             let free = free_rays(&no_return, spec, &pose, config.no_return_clearing);
+            let noise = config
+                .uncertainty
+                .camera_noise
+                .averaged(config.frames_per_view.max(1));
             let free_space = config
                 .camera_free_space
+                .then(|| camera_free_space(&frame, spec, &pose, noise))
+                .transpose()?;
+            // The frame smoothed for the registration alone.
+            let smoothed = (config.registration_smoothing > 0 && config.depth_smoothing == 0)
                 .then(|| {
-                    let n = config.frames_per_view.max(1);
-                    camera_free_space(
-                        &frame,
-                        spec,
-                        &pose,
-                        config.uncertainty.camera_noise.averaged(n),
-                    )
+                    let smoothed =
+                        smooth_frame(frame.clone(), config.registration_smoothing, |z| {
+                            noise.sigma(z)
+                        });
+                    depth_frame_to_cloud(&smoothed, spec, &pose)
                 })
                 .transpose()?;
-            Ok((cloud, free, free_space, joints, pose))
+            Ok((cloud, smoothed, free, free_space, joints, pose))
         })?;
     let gain = timed(&mut times.mapping, || -> Result<_, PipelineError> {
         let before = map.grid.clone();
         map.insert(&frame, rig.camera.spec().range[1], &free)?;
         Ok(InformationGain::between(&before, &map.grid, predicted)?)
     })?;
-    let mut cloud = region.crop(&frame);
-    if let (Some(filter), Some(plane)) = (&config.table_filter, table) {
-        cloud = filter.remove(plane, &cloud);
-    }
-    // The known obstacles are no object: what falls in their boxes (grown by the
-    // clustering tolerance, as phase 1 leaves them out) leaves the view. Not grown by the
-    // camera's whole declared pose error: at five times the scenes' errors that margin
-    // reaches 10 cm and swallows objects standing in front of a known box; the views'
-    // misalignment is the registration's to correct.
-    let known = &config.phase_one.exclude;
-    let cloud = cloud.retain_indices(|i| !known.iter().any(|b| b.contains(&cloud.points[i])));
+    let cloud = object_points(&frame, region, table, config);
+    let registration_cloud = smoothed.map(|s| object_points(&s, region, table, config));
     Ok(Observation {
         joints,
         sensor_pose: pose,
@@ -94,6 +96,7 @@ pub(super) fn acquire_and_update(
         cloud,
         frame,
         free_space,
+        registration_cloud,
         gain,
     })
 }
@@ -114,6 +117,27 @@ fn camera_free_space(
         &frame.depth,
         |z| 3.0 * noise.sigma(z),
     )?)
+}
+
+/// The object's points of a frame's cloud: cut to its region, the table and the known
+/// obstacles taken out.
+fn object_points(
+    frame: &PointCloud,
+    region: &ObjectRegion,
+    table: Option<&PlaneFit>,
+    config: &ExploreConfig,
+) -> PointCloud {
+    let mut cloud = region.crop(frame);
+    if let (Some(filter), Some(plane)) = (&config.table_filter, table) {
+        cloud = filter.remove(plane, &cloud);
+    }
+    // The known obstacles are no object: what falls in their boxes (grown by the
+    // clustering tolerance, as phase 1 leaves them out) leaves the view. Not grown by the
+    // camera's whole declared pose error: at five times the scenes' errors that margin
+    // reaches 10 cm and swallows objects standing in front of a known box; the views'
+    // misalignment is the registration's to correct.
+    let known = &config.phase_one.exclude;
+    cloud.retain_indices(|i| !known.iter().any(|b| b.contains(&cloud.points[i])))
 }
 
 /// `config.frames_per_view` frames (at least one) at the camera's current pose, averaged,

@@ -94,6 +94,10 @@ pub struct ExploreConfig {
     /// Give the MAP registration each camera view's own free space (its averaged depth
     /// image, [`DepthImageFreeSpace`](crate::registration::DepthImageFreeSpace)).
     pub camera_free_space: bool,
+    /// Half-width (pixels) of the plane fit ([`smooth_frame`](crate::rig::smooth_frame))
+    /// that smooths each view's averaged frame for the registration alone (0: none; unused
+    /// when [`depth_smoothing`](Self::depth_smoothing) already smooths the frame).
+    pub registration_smoothing: usize,
     /// After the registration passes (and the self-calibration's), refine each object's
     /// accepted MAP registration along the camera's rays, from where it ended.
     pub refine_along_rays: bool,

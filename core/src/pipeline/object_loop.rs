@@ -199,6 +199,7 @@ pub(super) fn explore_object(
                 frame_points: seen.frame_points,
                 cloud: seen.cloud,
                 free_space: seen.free_space,
+                registration_cloud: seen.registration_cloud,
                 gain,
                 plan: planned.stats,
                 failures_before: failures_since_view,

@@ -26,8 +26,13 @@ fn subsample(cloud: &PointCloud, n: usize) -> PointCloud {
 }
 
 /// The registration's input: the cluster (reference) and the non-empty views,
-/// subsampled, each camera point with its sensor position.
-fn registration_views(object: &ObjectExploration, config: &ExploreConfig) -> Vec<PointCloud> {
+/// subsampled, each camera point with its sensor position — each view's points smoothed
+/// for the registration where it has them (`smoothed`), else its points as acquired.
+fn registration_views(
+    object: &ObjectExploration,
+    config: &ExploreConfig,
+    smoothed: bool,
+) -> Vec<PointCloud> {
     let points = config.registration_points;
     let mut views = vec![subsample(&object.cluster, points)];
     views.extend(
@@ -36,7 +41,12 @@ fn registration_views(object: &ObjectExploration, config: &ExploreConfig) -> Vec
             .iter()
             .filter(|v| !v.cloud.is_empty())
             .map(|v| {
-                let mut cloud = subsample(&v.cloud, points);
+                let source = v
+                    .registration_cloud
+                    .as_ref()
+                    .filter(|c| smoothed && !c.is_empty())
+                    .unwrap_or(&v.cloud);
+                let mut cloud = subsample(source, points);
                 // Every point of a frame was seen from the reported sensor position.
                 let o = nalgebra::Point3::from(v.sensor_pose.translation.vector);
                 cloud.origins = Some(vec![o; cloud.len()]);
@@ -102,7 +112,7 @@ pub(super) fn register_object(
     workcell: Option<&WorkcellAlignment>,
     sweep: Option<&PointCloud>,
 ) -> Result<(ObjectRegistration, MapPreparation), RegistrationError> {
-    let views = registration_views(object, config);
+    let views = registration_views(object, config, true);
     let initial = vec![Pose::identity(); views.len()];
     let models = uncertainty_of(config, workcell).view_models(&views, config.frames_per_view);
     let map_params = params(config, Method::Map);
@@ -148,6 +158,7 @@ pub(super) fn register_object(
         calibrated: false,
         gpa_accepted: accepted(&gpa),
         icp_accepted: accepted(&icp),
+        points: registration_views(object, config, false),
         views,
         map,
         gpa,

@@ -104,6 +104,10 @@ pub struct AcquiredView {
     /// Where the camera saw empty space (world frame, reported pose), when the
     /// registration uses it.
     pub free_space: Option<DepthImageFreeSpace>,
+    /// The object's points of the frame smoothed for the registration
+    /// ([`ExploreConfig::registration_smoothing`](super::ExploreConfig::registration_smoothing)),
+    /// cut as `cloud`; `None` where the registration uses `cloud`.
+    pub registration_cloud: Option<PointCloud>,
     /// Eq. (5) over O_v.
     pub gain: InformationGain,
     /// The planned path's statistics.
@@ -145,8 +149,13 @@ pub enum ObjectStop {
 /// reference), all from the same input.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ObjectRegistration {
-    /// The views as registered (subsampled, world frame through the reported poses).
+    /// The views as registered (subsampled, world frame through the reported poses; the
+    /// camera views' points smoothed where the registration smooths its input).
     pub views: Vec<PointCloud>,
+    /// The views' points as acquired, the model's: `views` where the registration does not
+    /// smooth its input, else the same views' unsmoothed points (subsampled alike), moved
+    /// by the same poses.
+    pub points: Vec<PointCloud>,
     /// What the MAP registration was told of each view: its noise and prior.
     pub models: Vec<crate::registration::ViewModel>,
     /// The MAP registration: the model's.
@@ -230,7 +239,7 @@ impl ObjectExploration {
                 let (registration, accepted) = pick(r)?;
                 Some(if accepted {
                     registration
-                        .merged(&r.views)
+                        .merged(&r.points)
                         .unwrap_or_else(|_| self.cluster.clone())
                 } else {
                     self.unregistered_model()
@@ -245,7 +254,7 @@ impl ObjectExploration {
         match &self.registration {
             Some(r) => {
                 let mut out = PointCloud::default();
-                for (k, v) in r.views.iter().enumerate() {
+                for (k, v) in r.points.iter().enumerate() {
                     let mut v = v.clone();
                     v.views = Some(vec![k as u32; v.len()]);
                     out.extend(&v);
@@ -259,7 +268,7 @@ impl ObjectExploration {
     fn merged_with(&self, pick: impl Fn(&ObjectRegistration) -> &Registration) -> PointCloud {
         self.registration
             .as_ref()
-            .and_then(|r| pick(r).merged(&r.views).ok())
+            .and_then(|r| pick(r).merged(&r.points).ok())
             .unwrap_or_else(|| self.cluster.clone())
     }
 }
