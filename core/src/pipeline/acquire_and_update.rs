@@ -189,14 +189,19 @@ mod tests {
     use super::*;
     use nalgebra::{Translation3, UnitQuaternion, Vector3};
 
-    #[test]
-    fn free_rays_run_along_the_pixels_the_cloud_puts_points_on() {
-        let spec = DepthCameraSpec::ipa1110();
-        let (w, h) = (spec.width, spec.height);
+    /// The Dinast somewhere above the table, turned.
+    fn camera() -> (DepthCameraSpec, Pose) {
         let pose = Pose::from_parts(
             Translation3::new(0.6, -0.1, 0.7),
             UnitQuaternion::from_euler_angles(2.8, -0.4, 1.1),
         );
+        (DepthCameraSpec::ipa1110(), pose)
+    }
+
+    #[test]
+    fn free_rays_run_along_the_pixels_the_cloud_puts_points_on() {
+        let (spec, pose) = camera();
+        let (w, h) = (spec.width, spec.height);
         // Three pixels: a corner, the centre, an off-centre one.
         let pixels = [0, (h / 2) * w + w / 2, 37 * w + 250];
         let mut no_return = vec![false; w * h];
@@ -230,12 +235,8 @@ mod tests {
 
     #[test]
     fn the_cameras_free_space_lies_in_front_of_the_frames_points() {
-        let spec = DepthCameraSpec::ipa1110();
+        let (spec, pose) = camera();
         let (w, h) = (spec.width, spec.height);
-        let pose = Pose::from_parts(
-            Translation3::new(0.6, -0.1, 0.7),
-            UnitQuaternion::from_euler_angles(2.8, -0.4, 1.1),
-        );
         // A tilted wall, a hole without a return in it.
         let depth = (0..w * h)
             .map(|i| {
