@@ -194,6 +194,35 @@ mod tests {
         assert!(free.contains(&(centre(5.5, 5.5) * 0.5)));
     }
 
+    proptest::proptest! {
+        /// The free space is star-shaped from the camera: wherever a point along a ray is
+        /// free, every point nearer the camera on that ray is free too; and nothing behind
+        /// every return is.
+        #[test]
+        fn the_free_space_is_star_shaped_from_the_camera(
+            depths in proptest::collection::vec(proptest::option::of(0.2f32..1.0), 12 * 9),
+            roll in -3.0f64..3.0,
+            (x, y) in (-0.5f64..0.5, -0.4f64..0.4),
+            t in 0.05f64..1.2,
+            shrink in 0.0f64..1.0,
+        ) {
+            let (w, h) = (12, 9);
+            let depth: Vec<f32> = depths.iter().map(|d| d.unwrap_or(f32::NAN)).collect();
+            let sensor = Pose::from_parts(
+                Translation3::new(0.1, 0.2, 0.3),
+                UnitQuaternion::from_euler_angles(roll, 0.2, -0.4),
+            );
+            let free = DepthImageFreeSpace::new(sensor, 10.0, w, h, &depth, |z| 0.02 * z).unwrap();
+            let ray = Vector3::new(x, y, 1.0);
+            let at = |z: f64| sensor * Point3::from(ray * z);
+            if free.contains(&at(t)) {
+                proptest::prop_assert!(free.contains(&at(t * shrink.max(1e-3))));
+            }
+            // Behind every return of the image (all nearer than 1 m): never free.
+            proptest::prop_assert!(!free.contains(&at(1.01)));
+        }
+    }
+
     #[test]
     fn bad_images_are_errors() {
         let depth = vec![1.0f32; 12];
