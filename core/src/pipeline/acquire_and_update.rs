@@ -198,6 +198,17 @@ mod tests {
         (DepthCameraSpec::ipa1110(), pose)
     }
 
+    /// A frame of `spec`'s size with these depths.
+    fn frame_of(spec: &DepthCameraSpec, depth: Vec<f32>) -> DepthFrame {
+        DepthFrame {
+            time: 0.0,
+            width: spec.width,
+            height: spec.height,
+            depth,
+            truth: None,
+        }
+    }
+
     #[test]
     fn free_rays_run_along_the_pixels_the_cloud_puts_points_on() {
         let (spec, pose) = camera();
@@ -210,13 +221,7 @@ mod tests {
             no_return[i] = true;
             depth[i] = 0.5;
         }
-        let frame = DepthFrame {
-            time: 0.0,
-            width: w,
-            height: h,
-            depth,
-            truth: None,
-        };
+        let frame = frame_of(&spec, depth);
         let cloud = depth_frame_to_cloud(&frame, &spec, &pose).unwrap();
         let rays = free_rays(&no_return, &spec, &pose, 0.75);
         assert_eq!((rays.len(), cloud.len()), (3, 3));
@@ -248,13 +253,7 @@ mod tests {
                 }
             })
             .collect();
-        let frame = DepthFrame {
-            time: 0.0,
-            width: w,
-            height: h,
-            depth,
-            truth: None,
-        };
+        let frame = frame_of(&spec, depth);
         let noise = RangeNoise::constant(0.002);
         let free = camera_free_space(&frame, &spec, &pose, noise).unwrap();
         let cloud = depth_frame_to_cloud(&frame, &spec, &pose).unwrap();
