@@ -175,8 +175,7 @@ fn evidence(
         let MethodReport::Map(report) = &r.map.report else {
             continue;
         };
-        // Registration view k ≥ 1 is the k-th non-empty camera view.
-        let taken = object.views.iter().filter(|v| !v.cloud.is_empty());
+        let taken = object.registered_views();
         let entries = report
             .views
             .iter()

@@ -35,24 +35,18 @@ fn registration_views(
 ) -> Vec<PointCloud> {
     let points = config.registration_points;
     let mut views = vec![subsample(&object.cluster, points)];
-    views.extend(
-        object
-            .views
-            .iter()
-            .filter(|v| !v.cloud.is_empty())
-            .map(|v| {
-                let source = v
-                    .registration_cloud
-                    .as_ref()
-                    .filter(|c| smoothed && !c.is_empty())
-                    .unwrap_or(&v.cloud);
-                let mut cloud = subsample(source, points);
-                // Every point of a frame was seen from the reported sensor position.
-                let o = nalgebra::Point3::from(v.sensor_pose.translation.vector);
-                cloud.origins = Some(vec![o; cloud.len()]);
-                cloud
-            }),
-    );
+    views.extend(object.registered_views().map(|v| {
+        let source = v
+            .registration_cloud
+            .as_ref()
+            .filter(|c| smoothed && !c.is_empty())
+            .unwrap_or(&v.cloud);
+        let mut cloud = subsample(source, points);
+        // Every point of a frame was seen from the reported sensor position.
+        let o = nalgebra::Point3::from(v.sensor_pose.translation.vector);
+        cloud.origins = Some(vec![o; cloud.len()]);
+        cloud
+    }));
     views
 }
 
@@ -124,9 +118,7 @@ pub(super) fn register_object(
     if let Some(free) = free {
         prepared = prepared.with_free_space(0, free)?;
     }
-    // Registration view k ≥ 1 is the k-th non-empty camera view.
-    let taken = object.views.iter().filter(|v| !v.cloud.is_empty());
-    for (k, view) in taken.enumerate() {
+    for (k, view) in object.registered_views().enumerate() {
         if let Some(free) = &view.free_space {
             prepared = prepared.with_depth_image(k + 1, free.clone())?;
         }
@@ -189,8 +181,11 @@ pub(super) fn register_calibrated(
     let uncertainty = uncertainty_of(config, workcell);
     let mut initial = vec![Pose::identity(); views.len()];
     let mut own = vec![uncertainty.camera_pose; views.len()];
-    let taken = object.views.iter().filter(|v| !v.cloud.is_empty());
-    for (k, view) in taken.enumerate().map(|(k, v)| (k + 1, v)) {
+    for (k, view) in object
+        .registered_views()
+        .enumerate()
+        .map(|(k, v)| (k + 1, v))
+    {
         let Some((xi, sigma)) =
             calibration.view_correction(robot, frame, &view.joints, &view.sensor_pose)
         else {

@@ -207,6 +207,12 @@ pub struct ObjectExploration {
 }
 
 impl ObjectExploration {
+    /// The camera views the registration takes (those with points), in order:
+    /// registration view `k ≥ 1` is the `k`-th of them (view 0 is the cluster).
+    pub fn registered_views(&self) -> impl Iterator<Item = &AcquiredView> {
+        self.views.iter().filter(|v| !v.cloud.is_empty())
+    }
+
     /// The object's model: its views merged through the MAP registration's poses, with a
     /// `views` column; the views as acquired when the registration was rejected
     /// ([`ObjectRegistration::map_accepted`]); the cluster alone when there was nothing
