@@ -150,7 +150,15 @@ pub(super) fn register_object(
         calibrated: false,
         gpa_accepted: accepted(&gpa),
         icp_accepted: accepted(&icp),
-        points: registration_views(object, config, false),
+        // The model's points: the same views unsmoothed, where the registration smoothed.
+        points: if object
+            .registered_views()
+            .any(|v| v.registration_cloud.is_some())
+        {
+            registration_views(object, config, false)
+        } else {
+            views.clone()
+        },
         views,
         map,
         gpa,

@@ -49,11 +49,15 @@ impl std::fmt::Debug for DepthImageFreeSpace {
 /// equal).
 impl PartialEq for DepthImageFreeSpace {
     fn eq(&self, other: &Self) -> bool {
-        let bits = |f: &[f32]| f.iter().map(|z| z.to_bits()).collect::<Vec<_>>();
         self.sensor == other.sensor
             && self.focal == other.focal
             && (self.width, self.height) == (other.width, other.height)
-            && bits(&self.free_to) == bits(&other.free_to)
+            && self.free_to.len() == other.free_to.len()
+            && self
+                .free_to
+                .iter()
+                .zip(other.free_to.iter())
+                .all(|(a, b)| a.to_bits() == b.to_bits())
     }
 }
 

@@ -433,7 +433,6 @@ fn chunk_sums(
             s.cost += pair.weight
                 * match seen_through() {
                     Some(false) => kernel.cost(1.0).0,
-                    None if pair.contradictions_only => kernel.cost(1.0).0,
                     _ => kernel.outlier_cost(),
                 };
             continue;
