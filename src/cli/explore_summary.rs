@@ -97,7 +97,7 @@ pub fn summary(report: &ExploreReport) -> String {
         if let (Some(t), Some(dr), Some(dt)) = (h.truth, h.rotation_error_deg, h.translation_error)
         {
             line += &format!(
-                "; injected [{:.2}, {:.2}, {:.2}]° [{:.1}, {:.1}, {:.1}] mm: off by {:.2}° and {:.1} mm",
+                "; injected (joint 6's offset folded in) [{:.2}, {:.2}, {:.2}]° [{:.1}, {:.1}, {:.1}] mm: off by {:.2}° and {:.1} mm",
                 t[0].to_degrees(),
                 t[1].to_degrees(),
                 t[2].to_degrees(),
@@ -107,25 +107,27 @@ pub fn summary(report: &ExploreReport) -> String {
                 dr,
                 dt * 1e3
             );
+            if let (Some(mr), Some(mt)) = (h.mount_rotation_error_deg, h.mount_translation_error) {
+                line += &format!(" ({mr:.2}° and {:.1} mm from the mount alone)", mt * 1e3);
+            }
         }
         s += &line;
         s += "\n";
         let q = e.joint_offsets.map(f64::to_degrees);
         let mut line = format!(
-            "    σ {:.2}° / {:.1} mm; joint offsets [{:.3}, {:.3}, {:.3}, {:.3}, {:.3}, {:.3}]°",
+            "    σ {:.2}° / {:.1} mm; joint offsets 1-5 [{:.3}, {:.3}, {:.3}, {:.3}, {:.3}]° (joint 6's is the mount's)",
             e.sigma[0].to_degrees(),
             e.sigma[1] * 1e3,
             q[0],
             q[1],
             q[2],
             q[3],
-            q[4],
-            q[5]
+            q[4]
         );
         if let Some(t) = h.joint_offsets_truth {
             let t = t.map(f64::to_degrees);
             line += &format!(
-                " (injected [{:.3}, {:.3}, {:.3}, {:.3}, {:.3}, {:.3}]°)",
+                " (injected [{:.3}, {:.3}, {:.3}, {:.3}, {:.3}]°, joint 6 {:.3}°)",
                 t[0], t[1], t[2], t[3], t[4], t[5]
             );
         }

@@ -281,20 +281,27 @@ pub struct WorkcellEntry {
 pub struct HandEyeEntry {
     /// The estimate (sensor frame): rotation vector (rad), translation (m), σ, views.
     pub estimate: nbv_core::pipeline::HandEyeEstimate,
-    /// The twin's injected hand-eye error: rotation vector (rad) and translation (m).
+    /// What the estimate estimates: the twin's injected hand-eye error with the last
+    /// joint's injected offset folded in (that joint turns the camera like the mount does,
+    /// so no calibration can tell the two apart): rotation vector (rad) and translation
+    /// (m).
     pub truth: Option<[f64; 6]>,
     /// Angle (degrees) between estimate and truth.
     pub rotation_error_deg: Option<f64>,
     /// Distance (m) between estimate and truth.
     pub translation_error: Option<f64>,
+    /// The twin's injected hand-eye error alone: rotation vector (rad) and translation (m).
+    pub injected_mount: Option<[f64; 6]>,
+    /// Angle (degrees) between the estimate and the injected mount alone.
+    pub mount_rotation_error_deg: Option<f64>,
+    /// Distance (m) between the estimate and the injected mount alone.
+    pub mount_translation_error: Option<f64>,
     /// The twin's injected joint offsets (rad).
     pub joint_offsets_truth: Option<[f64; 6]>,
     /// The calibration as the camera views see it: per view, the angle (degrees) between
     /// the correction the estimate predicts at the view's joints and the one the injected
-    /// errors imply; median and largest over the views. The camera's optical axis is the
-    /// flange axis, so a turn of the mount about it and an offset of joint 6 move every view
-    /// alike: the data fix only their sum, which this figure measures and the hand-eye
-    /// error alone does not.
+    /// errors imply; median and largest over the views (joint offsets and mount
+    /// together).
     pub view_rotation_error_deg: Option<[f64; 2]>,
     /// As `view_rotation_error_deg`, for the sensor origin's displacement (m).
     pub view_translation_error: Option<[f64; 2]>,
@@ -694,36 +701,51 @@ fn config_json(scene: &Scene, config: &ExploreConfig) -> serde_json::Value {
     })
 }
 
-/// The hand-eye estimate beside the scene's injected error (the twin's truth).
+/// The hand-eye estimate beside the scene's injected error (the twin's truth), with the
+/// last joint's offset folded into the mount as the estimate has it
+/// ([`identifiable_mount`](nbv_core::pipeline::identifiable_mount)).
 fn hand_eye_entry(
     scene: &Scene,
     estimate: &nbv_core::pipeline::HandEyeEstimate,
     exploration: &Exploration,
 ) -> HandEyeEntry {
     let (xyz, rpy) = scene.errors.scaled_hand_eye();
-    let truth = nbv_core::math::pose_from_xyz_rpy(xyz, rpy);
+    let mount = nbv_core::math::pose_from_xyz_rpy(xyz, rpy);
+    let offsets = scene.errors.scaled_joint_offsets();
+    let robot = nbv_core::kinematics::Robot::from_urdf_file(&scene.robot.urdf).ok();
+    let frame = &scene.sensors.short_range.frame;
+    let folded = robot
+        .as_ref()
+        .and_then(|r| nbv_core::pipeline::identifiable_mount(r, frame, &mount, offsets));
+    let (truth, truth_offsets) = folded.unwrap_or((mount, offsets));
     let w = truth.rotation.scaled_axis();
+    let t = truth.translation.vector;
     let injected = nbv_core::pipeline::HandEyeEstimate {
         rotation: [w.x, w.y, w.z],
-        translation: xyz,
-        joint_offsets: scene.errors.scaled_joint_offsets(),
+        translation: [t.x, t.y, t.z],
+        joint_offsets: truth_offsets,
         ..estimate.clone()
     };
-    let (view_rotation_error_deg, view_translation_error) =
-        match view_errors(scene, estimate, &injected, exploration) {
-            Some((r, t)) => (Some(r.map(f64::to_degrees)), Some(t)),
-            None => (None, None),
-        };
+    let (view_rotation_error_deg, view_translation_error) = match robot
+        .as_ref()
+        .and_then(|r| view_errors(r, frame, estimate, &injected, exploration))
+    {
+        Some((r, t)) => (Some(r.map(f64::to_degrees)), Some(t)),
+        None => (None, None),
+    };
     let est_rotation =
         nalgebra::UnitQuaternion::from_scaled_axis(nalgebra::Vector3::from(estimate.rotation));
+    let est_translation = nalgebra::Vector3::from(estimate.translation);
+    let m = mount.rotation.scaled_axis();
     HandEyeEntry {
         estimate: estimate.clone(),
-        truth: Some([w.x, w.y, w.z, xyz[0], xyz[1], xyz[2]]),
+        truth: Some([w.x, w.y, w.z, t.x, t.y, t.z]),
         rotation_error_deg: Some(est_rotation.angle_to(&truth.rotation).to_degrees()),
-        translation_error: Some(
-            (nalgebra::Vector3::from(estimate.translation) - truth.translation.vector).norm(),
-        ),
-        joint_offsets_truth: Some(scene.errors.scaled_joint_offsets()),
+        translation_error: Some((est_translation - t).norm()),
+        injected_mount: Some([m.x, m.y, m.z, xyz[0], xyz[1], xyz[2]]),
+        mount_rotation_error_deg: Some(est_rotation.angle_to(&mount.rotation).to_degrees()),
+        mount_translation_error: Some((est_translation - mount.translation.vector).norm()),
+        joint_offsets_truth: Some(offsets),
         view_rotation_error_deg,
         view_translation_error,
     }
@@ -731,20 +753,20 @@ fn hand_eye_entry(
 
 /// Median and largest, over the camera views of `exploration`, of the rotation (rad) and
 /// translation (m) between the corrections `estimate` and `injected` predict at each
-/// view (the same linearisation for both); `None` without views or without the robot.
+/// view of `robot`'s camera `frame` (the same linearisation for both); `None` without
+/// views.
 fn view_errors(
-    scene: &Scene,
+    robot: &nbv_core::kinematics::Robot,
+    frame: &str,
     estimate: &nbv_core::pipeline::HandEyeEstimate,
     injected: &nbv_core::pipeline::HandEyeEstimate,
     exploration: &Exploration,
 ) -> Option<([f64; 2], [f64; 2])> {
-    let robot = nbv_core::kinematics::Robot::from_urdf_file(&scene.robot.urdf).ok()?;
-    let frame = &scene.sensors.short_range.frame;
     let (mut rotations, mut translations) = (Vec::new(), Vec::new());
     let views = exploration.objects.iter().flat_map(|o| &o.views);
     for v in views.filter(|v| !v.cloud.is_empty()) {
-        let (a, _) = estimate.view_correction(&robot, frame, &v.joints, &v.sensor_pose)?;
-        let (b, _) = injected.view_correction(&robot, frame, &v.joints, &v.sensor_pose)?;
+        let (a, _) = estimate.view_correction(robot, frame, &v.joints, &v.sensor_pose)?;
+        let (b, _) = injected.view_correction(robot, frame, &v.joints, &v.sensor_pose)?;
         let d = a - b;
         rotations.push(d.fixed_rows::<3>(0).norm());
         translations.push(d.fixed_rows::<3>(3).norm());

@@ -15,6 +15,12 @@
 //! view outweighs its standstill's noise. `θ = (E, δq)` is the weighted least-squares
 //! solution with the rig's declared σ of `E` and of each joint offset as a prior.
 //!
+//! The last joint on the camera's chain turns the camera like the mount does: nothing
+//! moves between that joint and the sensor, so its offset is a constant change of the
+//! mount, in every view alike, and no calibration can tell the two apart. It is folded
+//! into `E` (its column of `J` is dropped and its σ added to the mount's prior), so `E`
+//! estimates the mount with that offset in it ([`identifiable_mount`]).
+//!
 //! The pipeline registers each object again with every view's prior centred on the
 //! calibrated pose (`E + J·δq` applied) and only the standstill noise and the estimate's
 //! own uncertainty as its σ, then estimates again, until the estimate stops moving.
@@ -112,14 +118,18 @@ pub fn correction_of(pose: &Pose, origin: &Point3<f64>) -> Vector6<f64> {
 }
 
 /// The 6×12 map from `(E, δq)` to a view's world-frame correction about its sensor
-/// origin: `B·[I | J(q)]` with `B` the sensor's rotation on both halves.
+/// origin: `B·[I | J(q)]` with `B` the sensor's rotation on both halves, and the mount
+/// joint's column of `J` dropped (folded into `E`).
 fn design(
     robot: &Robot,
     frame: &str,
     joints: &Joints,
     sensor_pose: &Pose,
 ) -> Option<SMatrix<f64, 6, PARAMS>> {
-    let j = robot.frame_jacobian(joints, frame).ok()?;
+    let mut j = robot.frame_jacobian(joints, frame).ok()?;
+    if let Some(k) = last_joint(&j) {
+        j.column_mut(k).fill(0.0);
+    }
     let r: Matrix3<f64> = sensor_pose.rotation.to_rotation_matrix().into_inner();
     let mut b = Matrix6::zeros();
     b.fixed_view_mut::<3, 3>(0, 0).copy_from(&r);
@@ -128,6 +138,65 @@ fn design(
     a.fixed_view_mut::<6, 6>(0, 0).copy_from(&b);
     a.fixed_view_mut::<6, 6>(0, 6).copy_from(&(b * j));
     Some(a)
+}
+
+/// The last joint that moves the frame whose [frame Jacobian](Robot::frame_jacobian) is
+/// `j`: its column is constant in the frame (it turns the frame like a change of the
+/// mount).
+fn last_joint(j: &Matrix6<f64>) -> Option<usize> {
+    (0..6).rev().find(|&k| j.column(k).norm() > 0.0)
+}
+
+/// The mount error a calibration can determine: `mount` (true mount = nominal ·
+/// `mount`) with the offset of the last joint on `frame`'s chain folded in, and
+/// `joint_offsets` (rad, true minus reported) with that offset zeroed. The twin compares
+/// the estimate with this. `None` where `frame` is not on `robot`.
+///
+/// ```
+/// use nbv_core::kinematics::{comau_smart_six, Joints};
+/// use nbv_core::math::Pose;
+/// use nbv_core::pipeline::identifiable_mount;
+/// let robot = comau_smart_six()?;
+/// let offsets = [0.001, 0.0, 0.0, 0.0, 0.0, 0.002];
+/// let (mount, rest) = identifiable_mount(&robot, "dinast", &Pose::identity(), offsets).unwrap();
+/// // Joint 6 turns the camera about its optical axis (the flange axis, reversed).
+/// assert!((mount.rotation.scaled_axis().z + 0.002).abs() < 1e-12);
+/// assert_eq!(rest, [0.001, 0.0, 0.0, 0.0, 0.0, 0.0]);
+/// // At any joints, the true sensor pose is the same either way.
+/// let q = Joints::from([0.3, -0.2, 0.4, 0.1, 0.5, -0.3]);
+/// let both = robot.fk(&(q + Joints::from(offsets)), "dinast")?;
+/// let folded = robot.fk(&(q + Joints::from(rest)), "dinast")? * mount;
+/// assert!((both.translation.vector - folded.translation.vector).norm() < 1e-12);
+/// assert!(both.rotation.angle_to(&folded.rotation) < 1e-12);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn identifiable_mount(
+    robot: &Robot,
+    frame: &str,
+    mount: &Pose,
+    joint_offsets: [f64; 6],
+) -> Option<(Pose, [f64; 6])> {
+    let zero = Joints::zeros();
+    let k = last_joint(&robot.frame_jacobian(&zero, frame).ok()?)?;
+    let mut turned = zero;
+    turned[k] = joint_offsets[k];
+    let turn = robot.fk(&zero, frame).ok()?.inverse() * robot.fk(&turned, frame).ok()?;
+    let mut rest = joint_offsets;
+    rest[k] = 0.0;
+    Some((turn * mount, rest))
+}
+
+/// Information of the prior of `E`: the rig's declared mount σ, widened by the folded
+/// joint's offset σ along its (constant) column of `frame`'s Jacobian.
+fn mount_information(
+    robot: &Robot,
+    frame: &str,
+    uncertainty: &PoseUncertainty,
+) -> Option<Matrix6<f64>> {
+    let j = robot.frame_jacobian(&Joints::zeros(), frame).ok()?;
+    let c = j.column(last_joint(&j)?).into_owned();
+    let sigma = uncertainty.joint_offset_sigma;
+    (covariance_of(&uncertainty.hand_eye) + c * c.transpose() * (sigma * sigma)).try_inverse()
 }
 
 /// Diagonal covariance of a [`PosePrior`], rotation first.
@@ -156,7 +225,12 @@ pub fn estimate_hand_eye(
     frame: &str,
     uncertainty: &PoseUncertainty,
 ) -> Option<HandEyeEstimate> {
-    solve(&evidence(objects, robot, frame, uncertainty), uncertainty)
+    let mount = mount_information(robot, frame, uncertainty)?;
+    solve(
+        &evidence(objects, robot, frame, uncertainty),
+        &mount,
+        uncertainty,
+    )
 }
 
 /// Each usable camera view's [`ViewEvidence`].
@@ -217,13 +291,16 @@ fn evidence(
     terms
 }
 
-/// The robust weighted least-squares `(E, δq)` of `terms` with the rig's declared σ as
-/// the prior.
-fn solve(terms: &[ViewEvidence], uncertainty: &PoseUncertainty) -> Option<HandEyeEstimate> {
+/// The robust weighted least-squares `(E, δq)` of `terms` with the information `mount`
+/// of `E`'s prior and the rig's declared joint σ as the prior.
+fn solve(
+    terms: &[ViewEvidence],
+    mount: &Matrix6<f64>,
+    uncertainty: &PoseUncertainty,
+) -> Option<HandEyeEstimate> {
     if terms.is_empty() {
         return None;
     }
-    let he = uncertainty.hand_eye.information();
     let q = 1.0 / uncertainty.joint_offset_sigma.powi(2);
     let normal_of = |robust: &[f64]| {
         let mut normal = SMatrix::<f64, PARAMS, PARAMS>::zeros();
@@ -232,8 +309,9 @@ fn solve(terms: &[ViewEvidence], uncertainty: &PoseUncertainty) -> Option<HandEy
             normal += t.design.transpose() * t.weight * t.design * *k;
             rhs += t.design.transpose() * (t.weight * t.estimate) * *k;
         }
+        let mut block = normal.fixed_view_mut::<6, 6>(0, 0);
+        block += mount;
         for k in 0..6 {
-            normal[(k, k)] += he[(k, k)];
             normal[(6 + k, 6 + k)] += q;
         }
         (normal, rhs)

@@ -36,7 +36,7 @@ pub use exploration::explore;
 pub use exploration_map::ExplorationMap;
 pub use explore_config::{ExploreConfig, ExploreMode, SURVEY_HEIGHT, SURVEY_SPACING};
 pub use explore_event::{ExploreEvent, ExploreObserver, NoObserver};
-pub use hand_eye::{HandEyeEstimate, estimate_hand_eye};
+pub use hand_eye::{HandEyeEstimate, estimate_hand_eye, identifiable_mount};
 pub use object_crop::ObjectRegion;
 pub use phase_one::run_phase_one;
 pub use pipeline_error::PipelineError;
