@@ -1,6 +1,6 @@
 //! [`estimate_hand_eye`]: the rig calibrates itself while it explores — one correction of
-//! the depth camera's mount (hand-eye) and of the six joint offsets, estimated from every
-//! object's registration.
+//! the depth camera's mount (hand-eye) and of the joint offsets but the last (folded into
+//! the mount, below), estimated from every object's registration.
 //!
 //! Each camera view's sensor-frame pose error is modelled as `E + J(q)·δq + n`: the
 //! hand-eye error `E` (rotation vector and translation, shared by every camera view), the
@@ -48,7 +48,8 @@ pub struct HandEyeEstimate {
     pub rotation: [f64; 3],
     /// Translation (m) of `E`.
     pub translation: [f64; 3],
-    /// Estimated joint offsets (rad, true minus reported).
+    /// Estimated joint offsets (rad, true minus reported); the last joint's is 0, its
+    /// offset being part of the mount's correction.
     pub joint_offsets: [f64; 6],
     /// σ of the worst-determined rotation (rad) and translation (m) component of `E`.
     pub sigma: [f64; 2],
