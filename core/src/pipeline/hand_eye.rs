@@ -148,6 +148,13 @@ fn last_joint(j: &Matrix6<f64>) -> Option<usize> {
     (0..6).rev().find(|&k| j.column(k).norm() > 0.0)
 }
 
+/// The last joint on `frame`'s chain and its (constant) column of the frame Jacobian.
+fn mount_joint(robot: &Robot, frame: &str) -> Option<(usize, Vector6<f64>)> {
+    let j = robot.frame_jacobian(&Joints::zeros(), frame).ok()?;
+    let k = last_joint(&j)?;
+    Some((k, j.column(k).into_owned()))
+}
+
 /// The mount error a calibration can determine: `mount` (true mount = nominal ·
 /// `mount`) with the offset of the last joint on `frame`'s chain folded in, and
 /// `joint_offsets` (rad, true minus reported) with that offset zeroed. The twin compares
@@ -178,7 +185,7 @@ pub fn identifiable_mount(
     joint_offsets: [f64; 6],
 ) -> Option<(Pose, [f64; 6])> {
     let zero = Joints::zeros();
-    let k = last_joint(&robot.frame_jacobian(&zero, frame).ok()?)?;
+    let (k, _) = mount_joint(robot, frame)?;
     let mut turned = zero;
     turned[k] = joint_offsets[k];
     let turn = robot.fk(&zero, frame).ok()?.inverse() * robot.fk(&turned, frame).ok()?;
@@ -194,8 +201,7 @@ fn mount_information(
     frame: &str,
     uncertainty: &PoseUncertainty,
 ) -> Option<Matrix6<f64>> {
-    let j = robot.frame_jacobian(&Joints::zeros(), frame).ok()?;
-    let c = j.column(last_joint(&j)?).into_owned();
+    let (_, c) = mount_joint(robot, frame)?;
     let sigma = uncertainty.joint_offset_sigma;
     (covariance_of(&uncertainty.hand_eye) + c * c.transpose() * (sigma * sigma)).try_inverse()
 }
