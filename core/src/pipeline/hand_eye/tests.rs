@@ -248,3 +248,38 @@ fn a_correction_pose_and_its_twist_are_inverse() {
     // The sensor origin moves by the translation alone.
     assert!(((pose * o - o) - xi.fixed_rows::<3>(3)).norm() < 1e-15);
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+
+    /// Folding the last joint's offset into the mount changes nothing the camera sees: at
+    /// any joints, with any offsets and mount error, the true sensor pose is the same.
+    #[test]
+    fn the_identifiable_mount_moves_the_camera_as_the_injected_errors_do(
+        q in proptest::array::uniform6(-1.5f64..1.5),
+        offsets in proptest::array::uniform6(-0.01f64..0.01),
+        turn in proptest::array::uniform3(-0.05f64..0.05),
+        shift in proptest::array::uniform3(-0.01f64..0.01),
+    ) {
+        let robot = robot();
+        let mount = Pose::from_parts(
+            Translation3::from(Vector3::from(shift)),
+            UnitQuaternion::from_scaled_axis(Vector3::from(turn)),
+        );
+        let (folded, rest) = identifiable_mount(&robot, "dinast", &mount, offsets).unwrap();
+        proptest::prop_assert_eq!(rest[5], 0.0);
+        proptest::prop_assert_eq!(&rest[..5], &offsets[..5]);
+        let q = crate::kinematics::Joints::from(q);
+        let injected = robot
+            .fk(&(q + crate::kinematics::Joints::from(offsets)), "dinast")
+            .unwrap()
+            * mount;
+        let identified = robot
+            .fk(&(q + crate::kinematics::Joints::from(rest)), "dinast")
+            .unwrap()
+            * folded;
+        let moved = (injected.translation.vector - identified.translation.vector).norm();
+        proptest::prop_assert!(moved < 1e-12, "{moved}");
+        proptest::prop_assert!(injected.rotation.angle_to(&identified.rotation) < 1e-12);
+    }
+}
