@@ -703,7 +703,8 @@ fn config_json(scene: &Scene, config: &ExploreConfig) -> serde_json::Value {
 
 /// The hand-eye estimate beside the scene's injected error (the twin's truth), with the
 /// last joint's offset folded into the mount as the estimate has it
-/// ([`identifiable_mount`](nbv_core::pipeline::identifiable_mount)).
+/// ([`identifiable_mount`](nbv_core::pipeline::identifiable_mount)); the comparisons
+/// with that are `None` where the robot's model does not load.
 fn hand_eye_entry(
     scene: &Scene,
     estimate: &nbv_core::pipeline::HandEyeEstimate,
@@ -717,37 +718,46 @@ fn hand_eye_entry(
     let folded = robot
         .as_ref()
         .and_then(|r| nbv_core::pipeline::identifiable_mount(r, frame, &mount, offsets));
-    let (truth, truth_offsets) = folded.unwrap_or((mount, offsets));
-    let w = truth.rotation.scaled_axis();
-    let t = truth.translation.vector;
-    let injected = nbv_core::pipeline::HandEyeEstimate {
-        rotation: [w.x, w.y, w.z],
-        translation: [t.x, t.y, t.z],
-        joint_offsets: truth_offsets,
-        ..estimate.clone()
+    // A pose as a rotation vector (rad) and a translation (m).
+    let six = |p: &Pose| {
+        let (w, t) = (p.rotation.scaled_axis(), p.translation.vector);
+        [w.x, w.y, w.z, t.x, t.y, t.z]
     };
-    let (view_rotation_error_deg, view_translation_error) = match robot
-        .as_ref()
-        .and_then(|r| view_errors(r, frame, estimate, &injected, exploration))
-    {
-        Some((r, t)) => (Some(r.map(f64::to_degrees)), Some(t)),
-        None => (None, None),
-    };
+    // Angle (degrees) and distance (m) of the estimate from `p`.
     let est_rotation =
         nalgebra::UnitQuaternion::from_scaled_axis(nalgebra::Vector3::from(estimate.rotation));
-    let est_translation = nalgebra::Vector3::from(estimate.translation);
-    let m = mount.rotation.scaled_axis();
+    let off = |p: &Pose| {
+        (
+            est_rotation.angle_to(&p.rotation).to_degrees(),
+            (nalgebra::Vector3::from(estimate.translation) - p.translation.vector).norm(),
+        )
+    };
+    let views = robot
+        .as_ref()
+        .zip(folded.as_ref())
+        .and_then(|(r, (truth, rest))| {
+            let [wx, wy, wz, tx, ty, tz] = six(truth);
+            let injected = nbv_core::pipeline::HandEyeEstimate {
+                rotation: [wx, wy, wz],
+                translation: [tx, ty, tz],
+                joint_offsets: *rest,
+                ..estimate.clone()
+            };
+            view_errors(r, frame, estimate, &injected, exploration)
+        });
+    let truth_off = folded.as_ref().map(|(truth, _)| off(truth));
+    let mount_off = off(&mount);
     HandEyeEntry {
         estimate: estimate.clone(),
-        truth: Some([w.x, w.y, w.z, t.x, t.y, t.z]),
-        rotation_error_deg: Some(est_rotation.angle_to(&truth.rotation).to_degrees()),
-        translation_error: Some((est_translation - t).norm()),
-        injected_mount: Some([m.x, m.y, m.z, xyz[0], xyz[1], xyz[2]]),
-        mount_rotation_error_deg: Some(est_rotation.angle_to(&mount.rotation).to_degrees()),
-        mount_translation_error: Some((est_translation - mount.translation.vector).norm()),
+        truth: folded.as_ref().map(|(truth, _)| six(truth)),
+        rotation_error_deg: truth_off.map(|(r, _)| r),
+        translation_error: truth_off.map(|(_, t)| t),
+        injected_mount: Some(six(&mount)),
+        mount_rotation_error_deg: Some(mount_off.0),
+        mount_translation_error: Some(mount_off.1),
         joint_offsets_truth: Some(offsets),
-        view_rotation_error_deg,
-        view_translation_error,
+        view_rotation_error_deg: views.map(|(r, _)| r.map(f64::to_degrees)),
+        view_translation_error: views.map(|(_, t)| t),
     }
 }
 
