@@ -204,6 +204,7 @@ impl Scene {
             camera_free_space: self.registration.camera_free_space,
             registration_smoothing: self.registration.smoothing as usize,
             refine_along_rays: self.registration.refine_along_rays,
+            measured_reference: self.registration.measured_reference,
             registration_baselines: self.registration.baselines,
             registration_points: self.registration.points_per_view as usize,
             max_correction: (

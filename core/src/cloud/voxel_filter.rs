@@ -42,23 +42,10 @@ impl VoxelFilter {
     pub fn filter(&self, cloud: &PointCloud) -> Result<PointCloud, ProcessingError> {
         let (order, starts) = self.sorted_members(cloud)?;
         let groups: Vec<&[usize]> = starts.windows(2).map(|w| &order[w[0]..w[1]]).collect();
-        let mut representatives = Vec::with_capacity(groups.len());
-        let mut centroids = Vec::with_capacity(groups.len());
-        for members in &groups {
-            let c = mean_point(members.iter().map(|&i| cloud.points[i]));
-            // Members are in ascending index order: the first minimum wins ties.
-            let mut best = members[0];
-            let mut best_d = (cloud.points[best] - c).norm_squared();
-            for &i in &members[1..] {
-                let d = (cloud.points[i] - c).norm_squared();
-                if d < best_d {
-                    best = i;
-                    best_d = d;
-                }
-            }
-            representatives.push(best);
-            centroids.push(c);
-        }
+        let (representatives, centroids): (Vec<usize>, Vec<Point3<f64>>) = groups
+            .iter()
+            .map(|members| representative(cloud, members))
+            .unzip();
         let mut out = cloud.select(&representatives);
         out.points = centroids;
         if let Some(origins) = &cloud.origins {
@@ -101,36 +88,83 @@ impl VoxelFilter {
             .collect())
     }
 
+    /// The points of `cloud` (all columns, in `cloud`'s order) that fall in a voxel holding
+    /// a point of `occupied`: what a downsampled subset of `cloud` stood for (a voxel's
+    /// centroid lies in its voxel). Errors as [`filter`](Self::filter) does.
+    ///
+    /// ```
+    /// use nbv_core::cloud::{PointCloud, VoxelFilter};
+    /// use nalgebra::Point3;
+    /// let cloud = PointCloud::from_points(vec![
+    ///     Point3::new(0.01, 0.01, 0.01),
+    ///     Point3::new(0.25, 0.0, 0.0),
+    ///     Point3::new(0.03, 0.01, 0.01),
+    /// ]);
+    /// let f = VoxelFilter { leaf_size: 0.1 };
+    /// let down = f.filter(&cloud).unwrap();
+    /// // The first voxel's centroid stands for the two points in it.
+    /// let members = f.in_voxels_of(&cloud, &down.points[..1]).unwrap();
+    /// assert_eq!(members.points, vec![cloud.points[0], cloud.points[2]]);
+    /// ```
+    pub fn in_voxels_of(
+        &self,
+        cloud: &PointCloud,
+        occupied: &[Point3<f64>],
+    ) -> Result<PointCloud, ProcessingError> {
+        self.check_leaf()?;
+        check_cloud(cloud)?;
+        let mut keys = std::collections::HashSet::with_capacity(occupied.len());
+        for (index, p) in occupied.iter().enumerate() {
+            keys.insert(self.key(p, index)?);
+        }
+        let mut inside = Vec::with_capacity(cloud.len());
+        for (index, p) in cloud.points.iter().enumerate() {
+            inside.push(keys.contains(&self.key(p, index)?));
+        }
+        Ok(cloud.retain_indices(|i| inside[i]))
+    }
+
+    fn check_leaf(&self) -> Result<(), ProcessingError> {
+        if self.leaf_size.is_finite() && self.leaf_size > 0.0 {
+            Ok(())
+        } else {
+            Err(ProcessingError::InvalidParameter {
+                name: "leaf_size",
+                value: self.leaf_size,
+                reason: "must be finite and > 0",
+            })
+        }
+    }
+
+    /// The voxel key `floor(p / leaf_size)` of point `index`.
+    fn key(&self, p: &Point3<f64>, index: usize) -> Result<[i64; 3], ProcessingError> {
+        // |key| < 2^52 keeps floor() exact and far from i64 overflow.
+        const LIMIT: f64 = 4_503_599_627_370_496.0;
+        let mut key = [0i64; 3];
+        for (k, c) in key.iter_mut().zip([p.x, p.y, p.z]) {
+            let f = (c / self.leaf_size).floor();
+            if f.is_nan() || f.abs() >= LIMIT {
+                return Err(ProcessingError::VoxelKeyOverflow {
+                    index,
+                    leaf_size: self.leaf_size,
+                });
+            }
+            *k = f as i64;
+        }
+        Ok(key)
+    }
+
     /// Point indices sorted by (voxel key, index), and the start of each voxel's run in
     /// that order (with a final entry equal to the number of points).
     fn sorted_members(
         &self,
         cloud: &PointCloud,
     ) -> Result<(Vec<usize>, Vec<usize>), ProcessingError> {
-        if !(self.leaf_size.is_finite() && self.leaf_size > 0.0) {
-            return Err(ProcessingError::InvalidParameter {
-                name: "leaf_size",
-                value: self.leaf_size,
-                reason: "must be finite and > 0",
-            });
-        }
+        self.check_leaf()?;
         check_cloud(cloud)?;
-        // |key| < 2^52 keeps floor() exact and far from i64 overflow.
-        const LIMIT: f64 = 4_503_599_627_370_496.0;
         let mut keyed = Vec::with_capacity(cloud.len());
         for (index, p) in cloud.points.iter().enumerate() {
-            let mut key = [0i64; 3];
-            for (k, c) in key.iter_mut().zip([p.x, p.y, p.z]) {
-                let f = (c / self.leaf_size).floor();
-                if f.is_nan() || f.abs() >= LIMIT {
-                    return Err(ProcessingError::VoxelKeyOverflow {
-                        index,
-                        leaf_size: self.leaf_size,
-                    });
-                }
-                *k = f as i64;
-            }
-            keyed.push((key, index));
+            keyed.push((self.key(p, index)?, index));
         }
         // (key, index) pairs are unique: the sort order is total and deterministic.
         keyed.sort_unstable();
@@ -140,6 +174,22 @@ impl VoxelFilter {
         starts.push(keyed.len());
         Ok((keyed.into_iter().map(|(_, i)| i).collect(), starts))
     }
+}
+
+/// The member of a voxel (indices ascending) nearest to the members' centroid (the first
+/// on ties), and the centroid.
+fn representative(cloud: &PointCloud, members: &[usize]) -> (usize, Point3<f64>) {
+    let c = mean_point(members.iter().map(|&i| cloud.points[i]));
+    let mut best = members[0];
+    let mut best_d = (cloud.points[best] - c).norm_squared();
+    for &i in &members[1..] {
+        let d = (cloud.points[i] - c).norm_squared();
+        if d < best_d {
+            best = i;
+            best_d = d;
+        }
+    }
+    (best, c)
 }
 
 /// Mean of a non-empty sequence of points, summed in iteration order.
@@ -239,6 +289,13 @@ mod tests {
                 if let Some(p) = prev { prop_assert!(p < k); }
                 prev = Some(k);
             }
+            // Every other centroid stands for exactly its voxel's points, in input order.
+            let some: Vec<Point3<f64>> = down.points.iter().step_by(2).copied().collect();
+            let mut expected: Vec<usize> = groups.iter().step_by(2).flatten().copied().collect();
+            expected.sort_unstable();
+            let members = f.in_voxels_of(&cloud, &some).unwrap();
+            let want: Vec<Point3<f64>> = expected.iter().map(|&i| cloud.points[i]).collect();
+            prop_assert_eq!(members.points, want);
             // Order independence: reversing the input gives the same points.
             let rev = PointCloud::from_points(cloud.points.iter().rev().copied().collect());
             let down_rev = f.filter(&rev).unwrap();

@@ -56,6 +56,7 @@ pub fn explore(
         let mut object = ObjectExploration {
             index: j,
             cluster: cluster.cloud(&segmentation.filtered),
+            reference: segmentation.sources[j].clone(),
             views: Vec::new(),
             failures: Vec::new(),
             candidates_evaluated: 0,

@@ -101,6 +101,10 @@ pub struct ExploreConfig {
     /// After the registration passes (and the self-calibration's), refine each object's
     /// accepted MAP registration along the camera's rays, from where it ended.
     pub refine_along_rays: bool,
+    /// Register against the cluster's measured laser points
+    /// ([`ObjectExploration::reference`](super::ObjectExploration::reference)) instead of
+    /// the voxel filter's centroids.
+    pub measured_reference: bool,
     /// Register each object by the paper's p-ICP-GPA and sequential ICP too, beside the
     /// model's MAP registration (for comparison only: the model does not use them).
     pub registration_baselines: bool,

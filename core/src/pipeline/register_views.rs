@@ -1,5 +1,5 @@
-//! Register (Figure 2, the last step): each object's phase-1 cluster (the reference) and
-//! its views, by the MAP registration (the model's) with the rig's pose uncertainty, and
+//! Register (Figure 2, the last step): each object's phase-1 cluster (the reference; or
+//! its laser points as measured) and its views, by the MAP registration (the model's) with the rig's pose uncertainty, and
 //! (unless turned off) by the paper's p-ICP-GPA and sequential ICP beside it, from the
 //! same input; and again,
 //! MAP only, with every view's prior centred on the rig's self-calibration.
@@ -25,16 +25,17 @@ fn subsample(cloud: &PointCloud, n: usize) -> PointCloud {
     cloud.select(&indices)
 }
 
-/// The registration's input: the cluster (reference) and the non-empty views,
-/// subsampled, each camera point with its sensor position — each view's points smoothed
-/// for the registration where it has them (`smoothed`), else its points as acquired.
+/// The registration's input: `reference` (view 0) and the non-empty views, subsampled,
+/// each camera point with its sensor position — each view's points smoothed for the
+/// registration where it has them (`smoothed`), else its points as acquired.
 fn registration_views(
     object: &ObjectExploration,
+    reference: &PointCloud,
     config: &ExploreConfig,
     smoothed: bool,
 ) -> Vec<PointCloud> {
     let points = config.registration_points;
-    let mut views = vec![subsample(&object.cluster, points)];
+    let mut views = vec![subsample(reference, points)];
     views.extend(object.registered_views().map(|v| {
         let source = v
             .registration_cloud
@@ -96,9 +97,9 @@ fn map_accepted(map: &Registration) -> bool {
     matches!(&map.report, MethodReport::Map(m) if m.accepted)
 }
 
-/// Registers the cluster (reference) and the views with the MAP registration (the
-/// model's) and, when the configuration asks for the baselines, the paper's p-ICP-GPA and
-/// sequential ICP, from the same input. Also returns the views as prepared for the MAP
+/// Registers the cluster (or its measured points, [`ObjectExploration::reference`]) and
+/// the views with the MAP registration (the model's) and, when the configuration asks for
+/// the baselines, the paper's p-ICP-GPA and sequential ICP, from the same input. Also returns the views as prepared for the MAP
 /// registration, for [`register_calibrated`].
 pub(super) fn register_object(
     object: &ObjectExploration,
@@ -106,7 +107,13 @@ pub(super) fn register_object(
     workcell: Option<&WorkcellAlignment>,
     sweep: Option<&PointCloud>,
 ) -> Result<(ObjectRegistration, MapPreparation), RegistrationError> {
-    let views = registration_views(object, config, true);
+    // The model keeps the cluster whichever reference the views are registered against.
+    let reference = if config.measured_reference {
+        &object.reference
+    } else {
+        &object.cluster
+    };
+    let views = registration_views(object, reference, config, true);
     let initial = vec![Pose::identity(); views.len()];
     let models = uncertainty_of(config, workcell).view_models(&views, config.frames_per_view);
     let map_params = params(config, Method::Map);
@@ -150,15 +157,9 @@ pub(super) fn register_object(
         calibrated: false,
         gpa_accepted: accepted(&gpa),
         icp_accepted: accepted(&icp),
-        // The model's points: the same views unsmoothed, where the registration smoothed.
-        points: if object
-            .registered_views()
-            .any(|v| v.registration_cloud.is_some())
-        {
-            registration_views(object, config, false)
-        } else {
-            views.clone()
-        },
+        // The model's points: the cluster and the views as acquired (the registration's
+        // reference and smoothed views stand for them).
+        points: registration_views(object, &object.cluster, config, false),
         views,
         map,
         gpa,

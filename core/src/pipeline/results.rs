@@ -187,6 +187,12 @@ pub struct ObjectExploration {
     pub index: usize,
     /// The phase-1 cluster P_j^0.
     pub cluster: PointCloud,
+    /// The cluster's points as the sensor measured them, without the voxel filter
+    /// ([`ObjectSegmentation::sources`]): the registration's reference (view 0) with
+    /// [`ExploreConfig::measured_reference`](super::ExploreConfig::measured_reference).
+    ///
+    /// [`ObjectSegmentation::sources`]: crate::perception::ObjectSegmentation::sources
+    pub reference: PointCloud,
     /// The short-range views taken, in order.
     pub views: Vec<AcquiredView>,
     /// Viewpoints that failed.
