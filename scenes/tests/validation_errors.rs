@@ -344,3 +344,22 @@ fn registration_smoothing_beyond_eight_pixels_is_rejected() {
     assert_eq!(scene.registration.smoothing, 2);
     assert!(scene.registration.camera_free_space);
 }
+
+#[test]
+fn the_measured_reference_is_off_unless_asked_for_and_must_be_a_boolean() {
+    let with = |line: &str| {
+        env1().replace(
+            "points_per_view = 2000\n",
+            &format!("points_per_view = 2000\n{line}\n"),
+        )
+    };
+    let mode = nbv_core::pipeline::ExploreMode::Hybrid;
+    let scene = check(&env1()).unwrap();
+    assert!(!scene.registration.measured_reference);
+    assert!(!scene.explore_config(mode).unwrap().measured_reference);
+    let scene = check(&with("measured_reference = true")).unwrap();
+    assert!(scene.explore_config(mode).unwrap().measured_reference);
+    let err = check(&with("measured_reference = 1")).unwrap_err();
+    assert!(matches!(err, SceneError::Parse { .. }), "{err}");
+    assert!(err.to_string().contains("line"), "{err}");
+}
