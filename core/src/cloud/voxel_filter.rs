@@ -88,9 +88,11 @@ impl VoxelFilter {
             .collect())
     }
 
-    /// The points of `cloud` (all columns, in `cloud`'s order) that fall in a voxel holding
-    /// a point of `occupied`: what a downsampled subset of `cloud` stood for (a voxel's
-    /// centroid lies in its voxel). Errors as [`filter`](Self::filter) does.
+    /// For each set of `occupied` points, the points of `cloud` (all columns, in `cloud`'s
+    /// order) that fall in a voxel holding one of them: what each downsampled subset of
+    /// `cloud` stood for (a voxel's centroid lies in its voxel). A voxel held by several
+    /// sets goes to the first. One pass over `cloud` for all sets. Errors as
+    /// [`filter`](Self::filter) does.
     ///
     /// ```
     /// use nbv_core::cloud::{PointCloud, VoxelFilter};
@@ -102,26 +104,31 @@ impl VoxelFilter {
     /// ]);
     /// let f = VoxelFilter { leaf_size: 0.1 };
     /// let down = f.filter(&cloud).unwrap();
-    /// // The first voxel's centroid stands for the two points in it.
-    /// let members = f.in_voxels_of(&cloud, &down.points[..1]).unwrap();
-    /// assert_eq!(members.points, vec![cloud.points[0], cloud.points[2]]);
+    /// // The first voxel's centroid stands for the two points in it, the second's for one.
+    /// let members = f.in_voxels_of(&cloud, &[&down.points[..1], &down.points[1..]]).unwrap();
+    /// assert_eq!(members[0].points, vec![cloud.points[0], cloud.points[2]]);
+    /// assert_eq!(members[1].points, vec![cloud.points[1]]);
     /// ```
     pub fn in_voxels_of(
         &self,
         cloud: &PointCloud,
-        occupied: &[Point3<f64>],
-    ) -> Result<PointCloud, ProcessingError> {
+        occupied: &[&[Point3<f64>]],
+    ) -> Result<Vec<PointCloud>, ProcessingError> {
         self.check_leaf()?;
         check_cloud(cloud)?;
-        let mut keys = std::collections::HashSet::with_capacity(occupied.len());
-        for (index, p) in occupied.iter().enumerate() {
-            keys.insert(self.key(p, index)?);
+        let mut owner = std::collections::HashMap::new();
+        for (set, points) in occupied.iter().enumerate() {
+            for (index, p) in points.iter().enumerate() {
+                owner.entry(self.key(p, index)?).or_insert(set);
+            }
         }
-        let mut inside = Vec::with_capacity(cloud.len());
+        let mut members = vec![Vec::new(); occupied.len()];
         for (index, p) in cloud.points.iter().enumerate() {
-            inside.push(keys.contains(&self.key(p, index)?));
+            if let Some(&set) = owner.get(&self.key(p, index)?) {
+                members[set].push(index);
+            }
         }
-        Ok(cloud.retain_indices(|i| inside[i]))
+        Ok(members.iter().map(|m| cloud.select(m)).collect())
     }
 
     fn check_leaf(&self) -> Result<(), ProcessingError> {
@@ -293,9 +300,9 @@ mod tests {
             let some: Vec<Point3<f64>> = down.points.iter().step_by(2).copied().collect();
             let mut expected: Vec<usize> = groups.iter().step_by(2).flatten().copied().collect();
             expected.sort_unstable();
-            let members = f.in_voxels_of(&cloud, &some).unwrap();
+            let members = f.in_voxels_of(&cloud, &[&some]).unwrap();
             let want: Vec<Point3<f64>> = expected.iter().map(|&i| cloud.points[i]).collect();
-            prop_assert_eq!(members.points, want);
+            prop_assert_eq!(&members[0].points, &want);
             // Order independence: reversing the input gives the same points.
             let rev = PointCloud::from_points(cloud.points.iter().rev().copied().collect());
             let down_rev = f.filter(&rev).unwrap();

@@ -7,7 +7,7 @@ use crate::cloud::{
     StatisticalOutlierFilter, VoxelFilter,
 };
 
-use nalgebra::Vector3;
+use nalgebra::{Point3, Vector3};
 
 use super::{
     ObstacleSliver, OrientedBox, PerceptionError, SegmentationParams, merge_stacked_parts,
@@ -177,9 +177,10 @@ pub fn segment_objects(
     let voxels = (params.voxel > 0.0).then_some(VoxelFilter {
         leaf_size: params.voxel,
     });
-    let down = match &voxels {
-        Some(f) => f.filter(&kept).map_err(step("voxel filter"))?,
-        None => kept.clone(),
+    // The cropped input stays for the clusters' sources where the voxel filter thins it.
+    let (down, kept) = match &voxels {
+        Some(f) => (f.filter(&kept).map_err(step("voxel filter"))?, Some(kept)),
+        None => (kept, None),
     };
     counts.after_voxel = down.len();
     let filtered = if params.outlier_neighbours > 0 {
@@ -259,18 +260,15 @@ pub fn segment_objects(
             }
         }
     }
-    let sources = clusters
-        .iter()
-        .map(|c| {
-            let cloud = c.cloud(&filtered);
-            match &voxels {
-                Some(f) => f
-                    .in_voxels_of(&kept, &cloud.points)
-                    .map_err(step("voxel filter")),
-                None => Ok(cloud),
-            }
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let clouds: Vec<PointCloud> = clusters.iter().map(|c| c.cloud(&filtered)).collect();
+    let sources = match (&voxels, &kept) {
+        (Some(f), Some(kept)) => {
+            let occupied: Vec<&[Point3<f64>]> = clouds.iter().map(|c| &c.points[..]).collect();
+            f.in_voxels_of(kept, &occupied)
+                .map_err(step("voxel filter"))?
+        }
+        _ => clouds,
+    };
     Ok(ObjectSegmentation {
         filtered,
         table,
@@ -284,7 +282,6 @@ pub fn segment_objects(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::Point3;
 
     #[test]
     fn a_clusters_sources_are_its_input_points_on_the_surface_where_its_centroids_sink_in() {

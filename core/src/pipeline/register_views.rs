@@ -1,8 +1,8 @@
 //! Register (Figure 2, the last step): each object's phase-1 cluster (the reference; or
-//! its laser points as measured) and its views, by the MAP registration (the model's) with the rig's pose uncertainty, and
-//! (unless turned off) by the paper's p-ICP-GPA and sequential ICP beside it, from the
-//! same input; and again,
-//! MAP only, with every view's prior centred on the rig's self-calibration.
+//! its laser points as measured) and its views, by the MAP registration (the model's) with
+//! the rig's pose uncertainty, and (unless turned off) by the paper's p-ICP-GPA and
+//! sequential ICP beside it, from the same input; and again, MAP only, with every view's
+//! prior centred on the rig's self-calibration.
 
 use super::{
     ExploreConfig, HandEyeEstimate, ObjectExploration, ObjectRegistration, PoseUncertainty,
@@ -99,8 +99,8 @@ fn map_accepted(map: &Registration) -> bool {
 
 /// Registers the cluster (or its measured points, [`ObjectExploration::reference`]) and
 /// the views with the MAP registration (the model's) and, when the configuration asks for
-/// the baselines, the paper's p-ICP-GPA and sequential ICP, from the same input. Also returns the views as prepared for the MAP
-/// registration, for [`register_calibrated`].
+/// the baselines, the paper's p-ICP-GPA and sequential ICP, from the same input. Also
+/// returns the views as prepared for the MAP registration, for [`register_calibrated`].
 pub(super) fn register_object(
     object: &ObjectExploration,
     config: &ExploreConfig,
