@@ -16,7 +16,7 @@
 //! with only the hand-eye error, without priors: 2.1 mm nearest, 1.1 mm along the rays from
 //! the first stage; the stages are `map.rs`'s).
 //!
-//! A correspondence's residual `e = x − y` (world frame) has the covariance
+//! A correspondence's residual `e = x − y` (in the target's frame) has the covariance
 //! `C = σ_x²·u_x u_xᵀ + σ_y²·u_y u_yᵀ + σ_f²·I + T`: each sensor's range noise along its
 //! own viewing ray `u` (isotropic where the ray is unknown), a floor `σ_f`, and `T` the
 //! freedom to slide along the surface — `L²·(I − n nᵀ)` with `L = d_max` where the target
@@ -209,21 +209,27 @@ impl DataTerm {
     }
 }
 
-/// One inlier's share of the normal equations: its weighted information `a = w·C⁻¹`, its
-/// residual `e = x − y`, and `x`, `y` relative to their views' correction centres.
+/// One inlier's share of the normal equations, in the target view's frame (where the
+/// data term is evaluated): its weighted information `a = w·C⁻¹`, and the matched points
+/// `x`, `y` (the residual is `e = x − y`).
 #[derive(Debug, Clone)]
 struct Linear {
     a: Matrix3<f64>,
-    e: Vector3<f64>,
     x: Vector3<f64>,
     y: Vector3<f64>,
 }
 
-/// The inliers of one work item (source points of one pair).
+/// The inliers of one work item (source points of one pair), and what takes them to the
+/// world frame of the normal equations.
 #[derive(Debug, Clone)]
 struct ChunkLinear {
     source: usize,
     target: usize,
+    /// The target's pose (target frame → world) as a rotation matrix and a translation.
+    rotation: Matrix3<f64>,
+    translation: Vector3<f64>,
+    /// The source's and the target's correction centres (world).
+    centres: [Vector3<f64>; 2],
     inliers: Vec<Linear>,
 }
 
@@ -247,15 +253,21 @@ impl ChunkLinear {
             gv: Vector6::zeros(),
             gw: Vector6::zeros(),
         };
+        let r = &self.rotation;
+        let [cx, cy] = &self.centres;
         for l in &self.inliers {
-            let a = &l.a;
-            let sx = -l.x.cross_matrix();
-            let sy = -l.y.cross_matrix();
+            // To the world frame: x and y about their views' centres, `a` as `R a Rᵀ`.
+            let a = &(r * l.a * r.transpose());
+            let e = r * (l.x - l.y);
+            let x = r * l.x + self.translation - cx;
+            let y = r * l.y + self.translation - cy;
+            let sx = -x.cross_matrix();
+            let sy = -y.cross_matrix();
             let (asx, asy) = (a * sx, a * sy);
             add_jtaj(&mut b.hvv, &sx, &asx, &asx, a, 1.0);
             add_jtaj(&mut b.hww, &sy, &asy, &asy, a, 1.0);
             add_jtaj(&mut b.hvw, &sx, &asx, &asy, a, -1.0);
-            let ae = a * l.e;
+            let ae = a * e;
             add_jtae(&mut b.gv, &sx, &ae, 1.0);
             add_jtae(&mut b.gw, &sy, &ae, -1.0);
         }
@@ -390,9 +402,15 @@ fn chunk_sums(
     kernel: &Kernel,
 ) -> Sums {
     let (src, dst) = (&views[pair.source], &views[pair.target]);
-    let (ps, pt) = (&poses[pair.source], &poses[pair.target]);
-    // The source's sensor (world): it can only have seen target surfaces that face it.
-    let eye = ps * src.centre;
+    let pt = &poses[pair.target];
+    // Everything is evaluated in the target's frame, where its surfels and free space are
+    // (the Mahalanobis distance does not depend on the frame): the source's points and
+    // rays are taken there by one matrix each.
+    let to_target = pt.inverse() * poses[pair.source];
+    let rotation = to_target.rotation.to_rotation_matrix().into_inner();
+    let translation = to_target.translation.vector;
+    // The source's sensor: it can only have seen target surfaces that face it.
+    let eye = to_target * src.centre;
     let slide = 0.25 * dst.spacing * dst.spacing;
     let plane_slack = kernel.max_distance * kernel.max_distance;
     let floor = kernel.floor * kernel.floor;
@@ -404,6 +422,9 @@ fn chunk_sums(
         linear: ChunkLinear {
             source: pair.source,
             target: pair.target,
+            rotation: pt.rotation.to_rotation_matrix().into_inner(),
+            translation: pt.translation.vector,
+            centres: [centres[pair.source].coords, centres[pair.target].coords],
             inliers: Vec::with_capacity(CHUNK),
         },
     };
@@ -414,19 +435,16 @@ fn chunk_sums(
             continue;
         }
         let i = k * pair.stride;
-        let local = src.tree.points()[i];
-        let x = ps * local;
-        // The point in the target's frame, where its surfels and free space are.
-        let x_target = pt.inverse_transform_point(&x);
+        let x = Point3::from(rotation * src.tree.points()[i].coords + translation);
+        let ray = rotation * src.rays[i];
         // Whether the target's sensor saw empty space where the point lies, if known (see
         // `FreeSpace`): at the point and one σ of its own noise farther along its ray, so
         // that the noise alone does not put a point of a surface next to the target's
         // free space (a silhouette seen at grazing) into it.
         let seen_through = || {
-            dst.free_space.as_ref().map(|f| {
-                let deeper = x + ps.rotation * src.rays[i] * src.sigmas[i];
-                f.contains(&x_target) && f.contains(&pt.inverse_transform_point(&deeper))
-            })
+            dst.free_space
+                .as_ref()
+                .map(|f| f.contains(&x) && f.contains(&(x + ray * src.sigmas[i])))
         };
         let Some((j, _)) = nearest.entries()[k].within(kernel.max_distance) else {
             // Out of reach: an outlier, unless the target's sensor never looked there.
@@ -440,7 +458,7 @@ fn chunk_sums(
         let surfel = &dst.surfels[j];
         let beyond = surfel
             .boundary
-            .is_some_and(|out| (x_target - dst.tree.points()[j]).dot(&out) > 0.0);
+            .is_some_and(|out| (x - dst.tree.points()[j]).dot(&out) > 0.0);
         // Beyond the edge where the target's sensor saw through: the point contradicts
         // the target, and is pulled back onto the edge point itself (point-to-point).
         let contradicts = beyond && seen_through() == Some(true);
@@ -456,32 +474,28 @@ fn chunk_sums(
         let (j, surfel) = if contradicts || !kernel.along_rays {
             (j, surfel)
         } else {
-            let ray = pt.inverse_transform_vector(&(ps.rotation * src.rays[i]));
-            let k = along_ray(dst, j, &x_target, &ray, kernel.max_distance);
+            let k = along_ray(dst, j, &x, &ray, kernel.max_distance);
             (k, &dst.surfels[k])
         };
         let (y, normal) = if contradicts {
-            (pt * dst.tree.points()[j], None)
+            (dst.tree.points()[j], None)
         } else {
-            (pt * surfel.position, surfel.normal)
+            (surfel.position, surfel.normal)
         };
         if let Some(n) = normal.filter(|_| dst.rays[j] != Vector3::zeros()) {
             let to_eye = eye - y;
-            if (pt.rotation * n).dot(&to_eye) < -MIN_FACING * to_eye.norm() {
+            if n.dot(&to_eye) < -MIN_FACING * to_eye.norm() {
                 s.cost += pair.weight * kernel.outlier_cost();
                 continue;
             }
         }
         let e = x - y;
         let var_x = src.sigmas[i] * src.sigmas[i];
-        let mut cov = ray_covariance(&(ps.rotation * src.rays[i]), var_x)
-            + ray_covariance(&(pt.rotation * dst.rays[j]), surfel.variance)
+        let mut cov = ray_covariance(&ray, var_x)
+            + ray_covariance(&dst.rays[j], surfel.variance)
             + Matrix3::identity() * floor;
         cov += match normal {
-            Some(n) => {
-                let n = pt.rotation * n;
-                (Matrix3::identity() - n * n.transpose()) * plane_slack
-            }
+            Some(n) => (Matrix3::identity() - n * n.transpose()) * plane_slack,
             None => Matrix3::identity() * (slide + var_x),
         };
         let Some(info) = cov.try_inverse() else {
@@ -501,9 +515,8 @@ fn chunk_sums(
         s.sum_sq += e.norm_squared();
         s.linear.inliers.push(Linear {
             a: info * (pair.weight * weight),
-            e,
-            x: x - centres[pair.source],
-            y: y - centres[pair.target],
+            x: x.coords,
+            y: y.coords,
         });
     }
     s
