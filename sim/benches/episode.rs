@@ -1,8 +1,10 @@
 //! One whole episode of the method on paper-env1 in the twin, headless: the phase-1 sweep,
 //! segmentation and grid, the next-best-view exploration of the three objects (planning,
 //! execution with truth checks, Dinast frames, grid updates) and the registration of each
-//! object by p-ICP-GPA and sequential ICP — `nbv explore` without the evaluation and the
-//! files. Also the mid-only baseline. Episodes per hour follow from the time.
+//! object (the model's MAP with the rig's self-calibration, and beside it the paper's
+//! p-ICP-GPA and sequential ICP, as the scene's `[registration] baselines` asks) — `nbv
+//! explore` without the evaluation and the files. Also the mid-only baseline. Episodes
+//! per hour follow from the time.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use nbv_core::pipeline::{ExploreMode, NoObserver};
