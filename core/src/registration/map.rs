@@ -52,7 +52,7 @@ use rayon::prelude::*;
 use std::sync::Mutex;
 
 use super::map_correspondences::PairNearest;
-use super::map_preparation::MapPreparation;
+use super::map_preparation::{CacheKey, MapPreparation};
 use super::map_terms::{self, DataTerm, Kernel, Pair};
 use super::map_view::MapView;
 use super::{
@@ -127,9 +127,19 @@ pub(crate) fn run(
         map.pair_points,
         map.view_to_view,
     );
+    // Each pair's nearest-point cache: the one the last run on these views left, if any.
+    let keys: Vec<CacheKey> = pairs
+        .iter()
+        .map(|p| (p.source, p.target, p.stride, kernel.max_distance.to_bits()))
+        .collect();
     let nearest = pairs
         .iter()
-        .map(|pair| PairNearest::new(views, pair, kernel.max_distance))
+        .zip(&keys)
+        .map(|(pair, &key)| {
+            prepared
+                .take_cache(key)
+                .unwrap_or_else(|| PairNearest::new(views, pair, kernel.max_distance))
+        })
         .collect();
     let mut problem = Problem {
         nearest: Mutex::new(nearest),
@@ -244,6 +254,11 @@ pub(crate) fn run(
         verdict,
         views: view_reports,
     };
+    let caches = problem
+        .nearest
+        .into_inner()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    prepared.keep_caches(keys.into_iter().zip(caches));
     Ok(Registration {
         poses,
         converged,

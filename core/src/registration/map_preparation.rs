@@ -4,9 +4,17 @@
 //! object again from new priors after its self-calibration; only the priors and the
 //! starting poses change, so the preparation is made once per object, and a run from a
 //! preparation gives exactly the result of a run that prepares afresh.
+//!
+//! It also keeps each pair's nearest-point cache ([`PairNearest`]) from one run to the
+//! next: a later run starts near where the last one ended, so most of its first
+//! evaluation's answers are proved unchanged instead of searched. The caches answer
+//! exactly as fresh searches do, so what ran before does not change a run's result.
+
+use std::sync::Mutex;
 
 use rayon::prelude::*;
 
+use super::map_correspondences::PairNearest;
 use super::map_view::{MapView, SeenEmpty};
 use super::{
     DepthImageFreeSpace, FreeSpace, RangeNoise, RegistrationError, RegistrationParams, ViewModel,
@@ -44,7 +52,13 @@ pub struct MapPreparation {
     pub(crate) views: Vec<MapView>,
     noises: Vec<RangeNoise>,
     surface_neighbours: usize,
+    /// The nearest-point caches the last run left, by pair.
+    caches: Mutex<Vec<(CacheKey, PairNearest)>>,
 }
+
+/// What a nearest-point cache answers for: source view, target view, the stride of the
+/// source's points, and the search radius (its bits).
+pub(crate) type CacheKey = (usize, usize, usize, u64);
 
 impl std::fmt::Debug for MapPreparation {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -77,7 +91,32 @@ impl MapPreparation {
             views,
             noises: models.iter().map(|m| m.noise).collect(),
             surface_neighbours: k,
+            caches: Mutex::new(Vec::new()),
         })
+    }
+
+    /// The cache kept for `key`, if the last run left one (taken out: runs that overlap
+    /// in time each get their own).
+    pub(crate) fn take_cache(&self, key: CacheKey) -> Option<PairNearest> {
+        // A poisoned lock only means an earlier panic; the caches stay exact.
+        let mut caches = self
+            .caches
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let at = caches.iter().position(|(k, _)| *k == key)?;
+        Some(caches.swap_remove(at).1)
+    }
+
+    /// Keeps a run's caches for the next run.
+    pub(crate) fn keep_caches(&self, kept: impl IntoIterator<Item = (CacheKey, PairNearest)>) {
+        let mut caches = self
+            .caches
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        for (key, cache) in kept {
+            caches.retain(|(k, _)| *k != key);
+            caches.push((key, cache));
+        }
     }
 
     /// Attaches what view `view`'s sensor saw to be empty ([`FreeSpace`], in the view's
@@ -181,6 +220,41 @@ mod tests {
             )
         };
         vec![sheet(0.0), sheet(0.02)]
+    }
+
+    #[test]
+    fn a_run_after_others_on_the_same_preparation_gives_a_fresh_runs_result() {
+        // The runs' nearest-point caches are kept in the preparation; each answers exactly
+        // as a fresh search, so the poses do not depend on what ran before.
+        let views = views();
+        let models = [ViewModel {
+            noise: RangeNoise::constant(0.0005),
+            prior: None,
+        }; 2];
+        let params = RegistrationParams {
+            method: Method::Map,
+            max_correspondence_distance: 0.01,
+            ..Default::default()
+        };
+        let prepared = MapPreparation::new(&views, &models, &params).unwrap();
+        let start = |dx: f64, dz: f64| {
+            [
+                Pose::identity(),
+                Pose::new(
+                    nalgebra::Vector3::new(dx, 0.0, dz),
+                    nalgebra::Vector3::new(0.0, 0.004, 0.0),
+                ),
+            ]
+        };
+        for (dx, dz) in [(0.002, -0.001), (-0.003, 0.0015), (0.0005, 0.002)] {
+            let initial = start(dx, dz);
+            let kept = register_prepared(&prepared, &views, &initial, &models, &params).unwrap();
+            let fresh = MapPreparation::new(&views, &models, &params).unwrap();
+            let afresh = register_prepared(&fresh, &views, &initial, &models, &params).unwrap();
+            assert_eq!(kept.poses, afresh.poses);
+            assert_ne!(kept.poses[1], initial[1]);
+        }
+        assert!(!prepared.caches.lock().unwrap().is_empty());
     }
 
     #[test]

@@ -25,6 +25,7 @@ use rayon::prelude::*;
 
 use super::depth_image_free_space::DepthImageFreeSpace;
 use super::free_space::FreeSpace;
+use super::neighbour_graph::NeighbourGraph;
 use super::view_tree::ViewTree;
 use super::{RangeNoise, RegistrationError};
 use crate::cloud::PointCloud;
@@ -94,6 +95,9 @@ impl SeenEmpty {
     }
 }
 
+/// A point's nearest points as [`NeighbourGraph::from_sorted`] takes them.
+type Neighbours = (Vec<(u32, f64)>, bool);
+
 impl MapView {
     /// Prepares view `index` (already checked) with its sensor noise; `k` neighbours per
     /// surfel.
@@ -103,7 +107,7 @@ impl MapView {
         noise: &RangeNoise,
         k: usize,
     ) -> Result<Self, RegistrationError> {
-        let tree = ViewTree::build(index, &cloud.points)?;
+        let mut tree = ViewTree::build(index, &cloud.points)?;
         let points = tree.points();
         let (rays, sigmas): (Vec<_>, Vec<_>) = match &cloud.origins {
             Some(origins) => points
@@ -125,7 +129,7 @@ impl MapView {
         };
         let centre = cloud.origin_centroid().unwrap_or_else(|| tree.centroid());
         let k = NonZeroUsize::new(k.max(3)).unwrap_or(NonZeroUsize::MIN);
-        let per_point: Vec<(Surfel, f64)> = (0..points.len().div_ceil(CHUNK))
+        let per_point: Vec<(Surfel, f64, Neighbours)> = (0..points.len().div_ceil(CHUNK))
             .into_par_iter()
             .map(|c| {
                 (c * CHUNK..((c + 1) * CHUNK).min(points.len()))
@@ -140,13 +144,31 @@ impl MapView {
                         // The nearest point is the point itself (or a duplicate of it):
                         // the second nearest gives the gap to a neighbour.
                         let gap = near.get(1).map_or(0.0, |&j| (points[j] - points[i]).norm());
-                        (surfel, gap)
+                        // The same neighbours list the point in the neighbour graph
+                        // (nearest first, ties by index, as the graph's own search).
+                        let mut listed: Vec<(u32, f64)> = near
+                            .iter()
+                            .map(|&j| (j as u32, (points[j] - points[i]).norm_squared()))
+                            .collect();
+                        listed.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+                        let complete = near.len() < k.get();
+                        (surfel, gap, (listed, complete))
                     })
                     .collect::<Vec<_>>()
             })
             .flatten_iter()
             .collect();
-        let (surfels, mut gaps): (Vec<Surfel>, Vec<f64>) = per_point.into_iter().unzip();
+        let mut surfels = Vec::with_capacity(per_point.len());
+        let mut gaps = Vec::with_capacity(per_point.len());
+        let mut lists = Vec::with_capacity(per_point.len());
+        for (surfel, gap, listed) in per_point {
+            surfels.push(surfel);
+            gaps.push(gap);
+            lists.push(listed);
+        }
+        // The nearest-point caches repair their answers by walks on this graph instead of
+        // searching the tree again (`nearest_cache.rs`).
+        tree.set_graph(NeighbourGraph::from_sorted(lists));
         gaps.sort_by(f64::total_cmp);
         let spacing = gaps.get(gaps.len() / 2).copied().unwrap_or(0.0);
         Ok(Self {

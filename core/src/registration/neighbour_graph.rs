@@ -70,14 +70,28 @@ impl NeighbourGraph {
                     .collect()
             })
             .collect();
-        let mut neighbours = Vec::with_capacity(points.len() * K);
-        let mut reach = Vec::with_capacity(points.len());
-        for (i, found) in lists.into_iter().flatten().enumerate() {
+        let want = want.get();
+        Self::from_sorted(lists.into_iter().flatten().map(|found| {
+            let complete = found.len() < want;
+            (found, complete)
+        }))
+    }
+
+    /// The graph from each point's nearest points, nearest first, as `(index, squared
+    /// distance)` (the point itself among them), and whether the list holds every point of
+    /// the view; otherwise every point closer than its last one must be in it. At most
+    /// `K + 1` entries of each list are used.
+    pub(crate) fn from_sorted(lists: impl IntoIterator<Item = (Vec<(u32, f64)>, bool)>) -> Self {
+        let lists = lists.into_iter();
+        let mut neighbours = Vec::with_capacity(lists.size_hint().0 * K);
+        let mut reach = Vec::with_capacity(lists.size_hint().0);
+        for (i, (mut found, complete)) in lists.enumerate() {
+            let complete = complete && found.len() <= K + 1;
+            found.truncate(K + 1);
             // Every point closer than the farthest found one was found.
-            let r = if found.len() == K + 1 {
-                found[K].1.sqrt()
-            } else {
-                f64::INFINITY
+            let r = match found.last() {
+                Some(&(_, sq)) if !complete => sq.sqrt(),
+                _ => f64::INFINITY,
             };
             let mut list: Vec<u32> = found
                 .into_iter()
@@ -154,15 +168,33 @@ mod tests {
 
     proptest! {
         /// A walk that succeeds finds the brute-force nearest point, and its bound holds
-        /// for every other point.
+        /// for every other point — on the graph the tree builds, and on one made from
+        /// lists of any length `k` (as the MAP's views make it from their surfels'
+        /// neighbours).
         #[test]
         fn walk_is_exact(
             coords in prop::collection::vec(prop::array::uniform3(-1.0f64..1.0), 2..60),
             q in prop::array::uniform3(-1.2f64..1.2),
             start in 0usize..60,
+            k in 1usize..20,
+            from_lists in any::<bool>(),
         ) {
             let points: Vec<Point3<f64>> = coords.iter().map(|c| Point3::from(*c)).collect();
-            let graph = NeighbourGraph::build(&points, &tree(&points));
+            let graph = if from_lists {
+                NeighbourGraph::from_sorted(points.iter().map(|p| {
+                    let mut all: Vec<(u32, f64)> = points
+                        .iter()
+                        .enumerate()
+                        .map(|(j, o)| (j as u32, (o - p).norm_squared()))
+                        .collect();
+                    all.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+                    let complete = k >= all.len();
+                    all.truncate(k);
+                    (all, complete)
+                }))
+            } else {
+                NeighbourGraph::build(&points, &tree(&points))
+            };
             let q = Point3::from(q);
             let start = start % points.len();
             if let Some(w) = graph.walk(&points, &q, start) {

@@ -67,6 +67,12 @@ impl ViewTree {
         Ok(tree)
     }
 
+    /// Attaches a [`NeighbourGraph`] of the view's points made elsewhere (from the
+    /// neighbours its surfels were fitted to).
+    pub(crate) fn set_graph(&mut self, graph: NeighbourGraph) {
+        self.graph = Some(graph);
+    }
+
     /// The neighbour graph, if built.
     pub(crate) fn graph(&self) -> Option<&NeighbourGraph> {
         self.graph.as_ref()
