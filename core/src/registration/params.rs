@@ -110,7 +110,7 @@ pub struct MapParams {
     pub max_stages: usize,
     /// σ added to every residual (m): what no sensor model explains (sampling, shape).
     pub floor_sigma: f64,
-    /// Convergence: a step turns no view by more than this (rad)…
+    /// Convergence: a step, at whatever damping, turns no view by more than this (rad)…
     pub rotation_tolerance: f64,
     /// …and moves no view's centroid by more than this (m).
     pub translation_tolerance: f64,
