@@ -222,10 +222,13 @@ mod tests {
         vec![sheet(0.0), sheet(0.02)]
     }
 
-    #[test]
-    fn a_run_after_others_on_the_same_preparation_gives_a_fresh_runs_result() {
-        // The runs' nearest-point caches are kept in the preparation; each answers exactly
-        // as a fresh search, so the poses do not depend on what ran before.
+    /// The two views, their models, the MAP's parameters and their preparation.
+    fn problem() -> (
+        Vec<PointCloud>,
+        [ViewModel; 2],
+        RegistrationParams,
+        MapPreparation,
+    ) {
         let views = views();
         let models = [ViewModel {
             noise: RangeNoise::constant(0.0005),
@@ -237,6 +240,14 @@ mod tests {
             ..Default::default()
         };
         let prepared = MapPreparation::new(&views, &models, &params).unwrap();
+        (views, models, params, prepared)
+    }
+
+    #[test]
+    fn a_run_after_others_on_the_same_preparation_gives_a_fresh_runs_result() {
+        // The runs' nearest-point caches are kept in the preparation; each answers exactly
+        // as a fresh search, so the poses do not depend on what ran before.
+        let (views, models, params, prepared) = problem();
         let start = |dx: f64, dz: f64| {
             [
                 Pose::identity(),
@@ -259,17 +270,7 @@ mod tests {
 
     #[test]
     fn refuses_other_views_noise_or_method() {
-        let views = views();
-        let models = [ViewModel {
-            noise: RangeNoise::constant(0.0005),
-            prior: None,
-        }; 2];
-        let params = RegistrationParams {
-            method: Method::Map,
-            max_correspondence_distance: 0.01,
-            ..Default::default()
-        };
-        let prepared = MapPreparation::new(&views, &models, &params).unwrap();
+        let (views, models, params, prepared) = problem();
         let initial = [Pose::identity(); 2];
         assert!(register_prepared(&prepared, &views, &initial, &models, &params).is_ok());
         let mismatch = |r: Result<_, RegistrationError>| {
