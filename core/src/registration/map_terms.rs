@@ -70,6 +70,7 @@ use rayon::prelude::*;
 
 use super::map_correspondences::PairNearest;
 use super::map_view::MapView;
+use super::nearest_cache::matrix;
 #[cfg(doc)]
 use super::{DepthImageFreeSpace, FreeSpace, MapParams};
 use crate::math::Pose;
@@ -407,8 +408,8 @@ fn chunk_sums(
     // (the Mahalanobis distance does not depend on the frame): the source's points and
     // rays are taken there by one matrix each.
     let to_target = pt.inverse() * poses[pair.source];
-    let rotation = to_target.rotation.to_rotation_matrix().into_inner();
-    let translation = to_target.translation.vector;
+    let (rotation, translation) = matrix(&to_target);
+    let (pt_rotation, pt_translation) = matrix(pt);
     // The source's sensor: it can only have seen target surfaces that face it.
     let eye = to_target * src.centre;
     let slide = 0.25 * dst.spacing * dst.spacing;
@@ -422,8 +423,8 @@ fn chunk_sums(
         linear: ChunkLinear {
             source: pair.source,
             target: pair.target,
-            rotation: pt.rotation.to_rotation_matrix().into_inner(),
-            translation: pt.translation.vector,
+            rotation: pt_rotation,
+            translation: pt_translation,
             centres: [centres[pair.source].coords, centres[pair.target].coords],
             inliers: Vec::with_capacity(CHUNK),
         },

@@ -170,7 +170,7 @@ impl NearestCache {
 }
 
 /// Rotation matrix and translation of a pose.
-fn matrix(pose: &Pose) -> (Matrix3<f64>, Vector3<f64>) {
+pub(crate) fn matrix(pose: &Pose) -> (Matrix3<f64>, Vector3<f64>) {
     (
         pose.rotation.to_rotation_matrix().into_inner(),
         pose.translation.vector,
