@@ -167,8 +167,9 @@ impl TwinWorld {
             reach,
             inverse: pose.inverse(),
         };
+        let rotation = *pose.rotation.to_rotation_matrix().matrix();
         let prims = self.visible_prims(&view, ignore_frame);
-        let tris = self.triangles(&view, &prims);
+        let (tris, normals) = self.triangles(&view, &prims, &rotation);
         let bands = h.div_ceil(BAND);
         let mut bins: Vec<Vec<u32>> = vec![Vec::new(); bands];
         for (i, t) in tris.iter().enumerate() {
@@ -237,7 +238,6 @@ impl TwinWorld {
             });
 
         let origin = Point3::from(pose.translation.vector);
-        let rotation = *pose.rotation.to_rotation_matrix().matrix();
         best.par_iter()
             .with_min_len(MIN_LEN)
             .enumerate()
@@ -253,14 +253,14 @@ impl TwinWorld {
                     return None;
                 }
                 let prim = &prims[b.prim as usize];
-                let normal_cam = if b.tri == u32::MAX {
-                    self.intersect(prim, &ray, pose).map_or(-ray, |(_, n)| n)
-                } else {
-                    let [e0, e1, e2] = tris[b.tri as usize].e;
-                    e0 + e1 + e2
-                };
                 let dir = rotation * (ray / norm);
-                let mut normal = (rotation * normal_cam).try_normalize(0.0).unwrap_or(-dir);
+                let normal = if b.tri == u32::MAX {
+                    let normal_cam = self.intersect(prim, &ray, pose).map_or(-ray, |(_, n)| n);
+                    (rotation * normal_cam).try_normalize(0.0)
+                } else {
+                    normals[b.tri as usize]
+                };
+                let mut normal = normal.unwrap_or(-dir);
                 if normal.dot(&dir) > 0.0 {
                     normal = -normal;
                 }
@@ -332,9 +332,16 @@ impl TwinWorld {
             .collect()
     }
 
-    /// The camera-frame triangles of the visible meshes that may cover a pixel.
-    fn triangles(&self, view: &Projection, prims: &[Prim]) -> Vec<Tri> {
-        let mut tris = Vec::new();
+    /// The camera-frame triangles of the visible meshes that may cover a pixel, and each
+    /// one's unit normal in the world frame (`rotation`: camera → world; `None` if
+    /// degenerate), worked out once for all the pixels it covers.
+    fn triangles(
+        &self,
+        view: &Projection,
+        prims: &[Prim],
+        rotation: &Matrix3<f64>,
+    ) -> (Vec<Tri>, Vec<Option<Vector3<f64>>>) {
+        let mut tris = (Vec::new(), Vec::new());
         for (p, prim) in prims.iter().enumerate() {
             // collider → camera: the inverse of `rot`, `origin`.
             let to_camera = |v: Vector3<f64>| prim.back * (v - prim.origin);
@@ -367,6 +374,13 @@ impl TwinWorld {
                 _ => continue,
             };
             let mesh_rect = prim.rect;
+            // Each vertex's pixel span, once (a vertex is shared by ~6 triangles); `None`
+            // for a vertex less than [`NEAR`] in front of the camera.
+            let spans: Vec<Option<PixelSpan>> = vertices
+                .par_iter()
+                .with_min_len(MIN_LEN)
+                .map(|v| view.span_of(v))
+                .collect();
             // A box's faces turned away from the camera lie behind its other faces: culled.
             let center =
                 matches!(prim.kind, Kind::Cuboid { .. }).then(|| to_camera(Vector3::zeros()));
@@ -374,12 +388,18 @@ impl TwinWorld {
                 indices
                     .par_iter()
                     .with_min_len(MIN_LEN)
-                    .filter_map(|[i, j, k]| {
-                        let (a, b, c) = (
-                            vertices[*i as usize],
-                            vertices[*j as usize],
-                            vertices[*k as usize],
-                        );
+                    .filter_map(|&[i, j, k]| {
+                        let [i, j, k] = [i as usize, j as usize, k as usize];
+                        let (a, b, c) = (vertices[i], vertices[j], vertices[k]);
+                        if a.z > view.reach && b.z > view.reach && c.z > view.reach {
+                            return None;
+                        }
+                        // The pixels first: most triangles of a fine mesh cover no pixel
+                        // centre, and need no edge functions.
+                        let rect = match (spans[i], spans[j], spans[k]) {
+                            (Some(p), Some(q), Some(r)) => PixelSpan::hull(&[p, q, r], mesh_rect),
+                            _ => view.rect_of(&[a, b, c], &[(0, 1), (1, 2), (2, 0)], mesh_rect),
+                        }?;
                         let e = [b.cross(&c), c.cross(&a), a.cross(&b)];
                         let det = a.dot(&e[0]);
                         if let Some(center) = center {
@@ -392,13 +412,14 @@ impl TwinWorld {
                                 return None;
                             }
                         }
-                        let rect = view.triangle_rect(&a, &b, &c, mesh_rect)?;
-                        Some(Tri {
+                        let normal = (rotation * (e[0] + e[1] + e[2])).try_normalize(0.0);
+                        let tri = Tri {
                             det,
                             e,
                             rect,
                             prim: p as u32,
-                        })
+                        };
+                        Some((tri, normal))
                     }),
             );
         }
@@ -489,18 +510,25 @@ impl Projection {
         self.rect_of(&corners, &EDGES, self.full())
     }
 
-    /// The pixel rectangle a camera-frame triangle may cover within `within`.
-    fn triangle_rect(
-        &self,
-        a: &Vector3<f64>,
-        b: &Vector3<f64>,
-        c: &Vector3<f64>,
-        within: Rect,
-    ) -> Option<Rect> {
-        if a.z > self.reach && b.z > self.reach && c.z > self.reach {
-            return None;
+    /// The pixel centres camera-frame point `p` may cover ([`PixelSpan`]), `None` if it
+    /// lies less than [`NEAR`] in front of the camera.
+    fn span_of(&self, p: &Vector3<f64>) -> Option<PixelSpan> {
+        (p.z >= NEAR).then(|| self.span_at(p.x / p.z, p.y / p.z))
+    }
+
+    /// The [`PixelSpan`] of image-plane point `(x, y)` (`x/z`, `y/z`).
+    fn span_at(&self, x: f64, y: f64) -> PixelSpan {
+        // Pixel u's centre is at x = (u + 0.5 − w/2) / f: the pixels whose centres lie
+        // within 10⁻³ pixel of the point, a margin far above the rounding of the
+        // projection (the edge functions decide exactly).
+        let u = x * self.f + 0.5 * self.w as f64 - 0.5;
+        let v = y * self.f + 0.5 * self.h as f64 - 0.5;
+        PixelSpan {
+            u0: ceil_clamped(u - 1e-3, self.w),
+            u1: floor_clamped(u + 1e-3, self.w),
+            v0: ceil_clamped(v - 1e-3, self.h),
+            v1: floor_clamped(v + 1e-3, self.h),
         }
-        self.rect_of(&[*a, *b, *c], &[(0, 1), (1, 2), (2, 0)], within)
     }
 
     fn full(&self) -> Rect {
@@ -521,46 +549,70 @@ impl Projection {
         edges: &[(usize, usize)],
         within: Rect,
     ) -> Option<Rect> {
-        let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-        let mut add = |p: Vector3<f64>| {
-            let (x, y) = (p.x / p.z, p.y / p.z);
-            x0 = x0.min(x);
-            x1 = x1.max(x);
-            y0 = y0.min(y);
-            y1 = y1.max(y);
-        };
-        let mut front = 0;
-        for p in points.iter().filter(|p| p.z >= NEAR) {
-            add(*p);
-            front += 1;
-        }
-        if front == 0 {
+        let mut spans: Vec<PixelSpan> = points.iter().filter_map(|p| self.span_of(p)).collect();
+        if spans.is_empty() {
             return None;
         }
-        if front < points.len() {
+        if spans.len() < points.len() {
             for &(i, j) in edges {
                 let (p, q) = (points[i], points[j]);
                 if (p.z < NEAR) != (q.z < NEAR) {
-                    add(p + (q - p) * ((NEAR - p.z) / (q.z - p.z)));
+                    let clipped = p + (q - p) * ((NEAR - p.z) / (q.z - p.z));
+                    spans.push(self.span_at(clipped.x / clipped.z, clipped.y / clipped.z));
                 }
             }
         }
-        // Pixel u's centre is at x = (u + 0.5 − w/2) / f: the pixels whose centres lie
-        // within the projected bounds, with a margin far above the rounding of the
-        // projection (the edge functions decide exactly).
-        let to_u = |x: f64| x * self.f + 0.5 * self.w as f64 - 0.5;
-        let to_v = |y: f64| y * self.f + 0.5 * self.h as f64 - 0.5;
-        let lo = |t: f64, min: usize| (t - 1e-3).ceil().max(min as f64);
-        let hi = |t: f64, max: usize| (t + 1e-3).floor().min(max as f64);
-        let (u0, u1) = (lo(to_u(x0), within.u0), hi(to_u(x1), within.u1));
-        let (v0, v1) = (lo(to_v(y0), within.v0), hi(to_v(y1), within.v1));
-        (u0 <= u1 && v0 <= v1).then_some(Rect {
-            u0: u0 as usize,
-            u1: u1 as usize,
-            v0: v0 as usize,
-            v1: v1 as usize,
-        })
+        PixelSpan::hull(&spans, within)
     }
+}
+
+/// The pixel centres within 10⁻³ pixel of a projected point, as integer bounds (an empty
+/// range, `u1 < u0`, where no centre is that close), clamped to the image ± 2. The bounds
+/// of a convex hull's pixels are the extremes of its corners' spans: rounding commutes with
+/// taking the extreme, so a hull's rectangle is integer work once its corners are known.
+#[derive(Debug, Clone, Copy)]
+struct PixelSpan {
+    u0: i32,
+    u1: i32,
+    v0: i32,
+    v1: i32,
+}
+
+impl PixelSpan {
+    /// The pixels of the hull of points with spans `spans`, clipped to `within` (`None` if
+    /// none).
+    fn hull(spans: &[PixelSpan], within: Rect) -> Option<Rect> {
+        let (mut u0, mut u1, mut v0, mut v1) = (i32::MAX, i32::MIN, i32::MAX, i32::MIN);
+        for s in spans {
+            u0 = u0.min(s.u0);
+            u1 = u1.max(s.u1);
+            v0 = v0.min(s.v0);
+            v1 = v1.max(s.v1);
+        }
+        // Image sizes fit an i32 (a frame's pixels are indexed by u32 elsewhere).
+        let clip = |lo: i32, hi: i32, min: usize, max: usize| {
+            let (lo, hi) = (lo.max(min as i32), hi.min(max as i32));
+            (lo <= hi).then_some((lo as usize, hi as usize))
+        };
+        let (u0, u1) = clip(u0, u1, within.u0, within.u1)?;
+        let (v0, v1) = clip(v0, v1, within.v0, within.v1)?;
+        Some(Rect { u0, u1, v0, v1 })
+    }
+}
+
+/// `⌈t⌉` for `t` clamped to `[−2, size + 2]` (no libm call: the conversion truncates
+/// exactly in that range).
+fn ceil_clamped(t: f64, size: usize) -> i32 {
+    let t = t.clamp(-2.0, size as f64 + 2.0);
+    let i = t as i32;
+    if f64::from(i) < t { i + 1 } else { i }
+}
+
+/// `⌊t⌋` for `t` clamped to `[−2, size + 2]`.
+fn floor_clamped(t: f64, size: usize) -> i32 {
+    let t = t.clamp(-2.0, size as f64 + 2.0);
+    let i = t as i32;
+    if f64::from(i) > t { i - 1 } else { i }
 }
 
 /// First hit (`t` ≥ 0) of `o + t·d` on the capped cylinder of axis y, `|y| ≤ half_height`,
