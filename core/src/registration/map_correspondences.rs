@@ -41,7 +41,8 @@ impl PairNearest {
 
 /// Brings every pair's answers up to date for the poses `poses` (view → world), all pairs'
 /// work items in parallel (each entry is independent: the same answers at any thread
-/// count).
+/// count). The points a pair's mask leaves out are skipped: the data term does not read
+/// them, and they are brought up to date when the mask is lifted.
 pub(crate) fn update(
     nearest: &mut [PairNearest],
     views: &[MapView],
@@ -53,8 +54,12 @@ pub(crate) fn update(
         .zip(pairs)
         .flat_map(|(n, pair)| {
             let to_target = poses[pair.target].inverse() * poses[pair.source];
-            n.cache
-                .begin_update(&n.points, &views[pair.target].tree, to_target)
+            n.cache.begin_update(
+                &n.points,
+                &views[pair.target].tree,
+                to_target,
+                pair.mask.as_deref(),
+            )
         })
         .collect();
     chunks.into_par_iter().for_each(|c| {

@@ -104,7 +104,7 @@ impl MutualSearch {
             .filter(|(k, _)| k / w != k % w)
             .flat_map(|(k, cache)| {
                 let (i, j) = (k / w, k % w);
-                cache.begin_update(trees[i].points(), &trees[j], inverse[j] * poses[i])
+                cache.begin_update(trees[i].points(), &trees[j], inverse[j] * poses[i], None)
             })
             .collect();
         work.into_par_iter().for_each(|chunk| {

@@ -116,12 +116,15 @@ impl NearestCache {
     }
 
     /// Records the pose of a new update (query frame → target frame) and splits the
-    /// entries into work items, to be run in any order on any thread.
+    /// entries into work items, to be run in any order on any thread. With `only`, the
+    /// entries not flagged in it are skipped: they keep their last answer, which the next
+    /// update that includes them brings up to date from the stamp it was found at.
     pub(crate) fn begin_update<'a>(
         &'a mut self,
         points: &'a [Point3<f64>],
         target: &'a ViewTree,
         pose: Pose,
+        only: Option<&'a [bool]>,
     ) -> Vec<UpdateChunk<'a>> {
         if self.stamps.len() >= (u32::MAX - 1) as usize {
             // Out of stamps (never in practice): forget everything, search afresh.
@@ -150,6 +153,7 @@ impl NearestCache {
             .chunks_mut(CHUNK)
             .enumerate()
             .map(|(c, entries)| UpdateChunk {
+                only: only.map(|m| &m[c * CHUNK..c * CHUNK + entries.len()]),
                 entries,
                 start: c * CHUNK,
                 context,
@@ -161,7 +165,7 @@ impl NearestCache {
     /// frame by `pose` (in parallel over chunks).
     pub(crate) fn update(&mut self, points: &[Point3<f64>], target: &ViewTree, pose: Pose) {
         let searches: usize = self
-            .begin_update(points, target, pose)
+            .begin_update(points, target, pose, None)
             .into_par_iter()
             .map(UpdateChunk::run)
             .sum();
@@ -194,6 +198,8 @@ struct UpdateContext<'a> {
 /// A chunk of entries to update; run it on any thread.
 pub(crate) struct UpdateChunk<'a> {
     entries: &'a mut [Nearest],
+    /// Which of the entries to update (all if `None`).
+    only: Option<&'a [bool]>,
     start: usize,
     context: UpdateContext<'a>,
 }
@@ -216,6 +222,9 @@ impl UpdateChunk<'_> {
         // neighbouring query points (scan order) have neighbouring answers.
         let mut hint = None;
         for (k, entry) in self.entries.iter_mut().enumerate() {
+            if self.only.is_some_and(|m| !m[k]) {
+                continue;
+            }
             let p = &points[self.start + k].coords;
             let q = Point3::from(rotation * p + translation);
             let margin = ROUNDING * (1.0 + scale + q.coords.amax());
@@ -340,7 +349,8 @@ mod tests {
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(48))]
         /// Along any sequence of poses the cache answers as brute force does, with or
-        /// without the target's neighbour graph.
+        /// without the target's neighbour graph, also after updates that skipped some of
+        /// its entries (which keep their answers meanwhile).
         #[test]
         fn matches_brute_force_along_a_path(
             seed in prop::collection::vec(-1.0f64..1.0, 7..13),
@@ -350,6 +360,8 @@ mod tests {
             ),
             scale in prop::sample::select(vec![1e-6, 1e-4, 1e-3, 1e-2]),
             graph: bool,
+            only in prop::collection::vec(any::<bool>(), 300),
+            masked in prop::collection::vec(any::<bool>(), 12),
         ) {
             let target_points = cloud(&seed);
             let query: Vec<_> = target_points.iter().map(|p| p + Vector3::new(0.0011, 0.0, 0.0)).collect();
@@ -361,10 +373,24 @@ mod tests {
             let radius = 0.003;
             let mut cache = NearestCache::new(query.len(), radius);
             let mut pose = Pose::identity();
-            for (t, r) in steps {
+            for (step, (t, r)) in steps.into_iter().enumerate() {
                 pose = Pose::new(Vector3::from(t) * scale, Vector3::from(r) * scale * 5.0) * pose;
-                cache.update(&query, &target, pose);
+                // Some updates bring only the entries flagged in `only` up to date: the
+                // others must keep their answers, and be exact again once updated.
+                let before = cache.entries().to_vec();
+                let mask = masked[step].then_some(&only[..]);
+                if let Some(mask) = mask {
+                    for chunk in cache.begin_update(&query, &target, pose, Some(mask)) {
+                        chunk.run();
+                    }
+                } else {
+                    cache.update(&query, &target, pose);
+                }
                 for (a, p) in query.iter().enumerate() {
+                    if mask.is_some_and(|m| !m[a]) {
+                        prop_assert_eq!(cache.entries()[a], before[a], "skipped point {}", a);
+                        continue;
+                    }
                     let q = pose * p;
                     let got = cache.entries()[a].within(radius).map(|(b, _)| b);
                     prop_assert_eq!(got, brute(&target_points, &q, radius), "point {}", a);
