@@ -167,10 +167,18 @@ pub(crate) fn run(
         .collect();
     let (mut iterations, mut evaluations) = (0, 0);
     let mut stages = 0;
+    // The correspondences at the initial poses, for the objective there at the end (a
+    // copy of the caches after the first evaluation, when it is at the initial poses:
+    // that evaluation then costs next to nothing again).
+    let mut at_initial: Option<Vec<PairNearest>> = None;
+    let mut first = corrections.iter().all(|c| *c == Pose::identity());
     let (state, stop) = loop {
         // Which points take part: those matched at the current poses.
         problem.unmask();
         let matched = problem.data(&corrections).matched;
+        if std::mem::take(&mut first) {
+            at_initial = Some(problem.caches().clone());
+        }
         problem.mask(matched);
         let (state, stop, its, evals) =
             problem.solve_gated(problem.state(corrections.clone()), &mut held, params);
@@ -195,7 +203,12 @@ pub(crate) fn run(
         }
     };
     // The final objective, and the same objective at the reported poses.
-    let objective_initial = problem.state(identity).objective;
+    let objective_initial = match at_initial {
+        Some(mut caches) => {
+            problem.data_using(&identity, &mut caches).cost + problem.prior_cost(&identity)
+        }
+        None => problem.state(identity).objective,
+    };
     evaluations += 1;
 
     let poses: Vec<Pose> = (0..w)
@@ -329,6 +342,19 @@ impl Problem<'_> {
     }
 
     fn data(&self, corrections: &[Pose]) -> DataTerm {
+        self.data_using(corrections, &mut self.caches())
+    }
+
+    /// The pairs' nearest-point caches. Evaluations never overlap; a poisoned lock only
+    /// means an earlier panic.
+    fn caches(&self) -> std::sync::MutexGuard<'_, Vec<PairNearest>> {
+        self.nearest
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+
+    /// The data term at `corrections`, with the nearest-point caches `nearest`.
+    fn data_using(&self, corrections: &[Pose], nearest: &mut [PairNearest]) -> DataTerm {
         let poses: Vec<Pose> = corrections
             .iter()
             .zip(self.initial)
@@ -339,15 +365,10 @@ impl Problem<'_> {
             .zip(&self.origins)
             .map(|(c, o)| c * o)
             .collect();
-        // Evaluations never overlap; a poisoned lock only means an earlier panic.
-        let mut nearest = self
-            .nearest
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
         map_terms::evaluate(
             self.views,
             &self.pairs,
-            &mut nearest,
+            nearest,
             &poses,
             &centres,
             &self.kernel,

@@ -14,6 +14,7 @@ use super::nearest_cache::{Nearest, NearestCache};
 use crate::math::Pose;
 
 /// One pair's used source points (source frame) and their nearest target points.
+#[derive(Clone)]
 pub(crate) struct PairNearest {
     points: Vec<Point3<f64>>,
     cache: NearestCache,
