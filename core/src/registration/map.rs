@@ -16,7 +16,10 @@
 //!
 //! Levenberg–Marquardt over all free views at once: each step solves the damped normal
 //! equations, the correspondences are searched again at the new poses and the step is
-//! kept only if `F` fell, else the damping grows. It stops converged when a step would
+//! kept only if `F` fell, else the damping grows. Each solve after a run's first starts
+//! at the damping of the last step taken (a stage starts where the last one ended; from
+//! the first solve's damping every later stage spent five or more rejected steps
+//! climbing back to it on the paper's Table II case). It stops converged when a step would
 //! turn no view by more than `rotation_tolerance` and move no view's centroid by more than
 //! `translation_tolerance`, whatever the damping that shortened it (the data term is
 //! piecewise smooth: a point changing its nearest target point or crossing an edge makes
@@ -65,7 +68,8 @@ use crate::math::Pose;
 /// Source points sampled per pair for the overlap test.
 const OVERLAP_SAMPLES: usize = 200;
 
-/// Damping bounds of Levenberg–Marquardt.
+/// Damping bounds of Levenberg–Marquardt (the start of a run's first solve; each later
+/// solve starts at the damping of the last step taken).
 const LAMBDA_START: f64 = 1e-4;
 const LAMBDA_MAX: f64 = 1e8;
 
@@ -167,6 +171,7 @@ pub(crate) fn run(
         .collect();
     let (mut iterations, mut evaluations) = (0, 0);
     let mut stages = 0;
+    let mut lambda = LAMBDA_START;
     // The correspondences at the initial poses, for the objective there at the end (a
     // copy of the caches after the first evaluation, when it is at the initial poses:
     // that evaluation then costs next to nothing again).
@@ -180,8 +185,12 @@ pub(crate) fn run(
             at_initial = Some(problem.caches().clone());
         }
         problem.mask(matched);
-        let (state, stop, its, evals) =
-            problem.solve_gated(problem.state(corrections.clone()), &mut held, params);
+        let (state, stop, its, evals) = problem.solve_gated(
+            problem.state(corrections.clone()),
+            &mut held,
+            &mut lambda,
+            params,
+        );
         iterations += its;
         evaluations += evals + 2;
         stages += 1;
@@ -304,11 +313,12 @@ impl Problem<'_> {
         &self,
         mut state: State,
         held: &mut [bool],
+        lambda: &mut f64,
         params: &RegistrationParams,
     ) -> (State, StopReason, usize, usize) {
         let (mut iterations, mut evaluations) = (0, 0);
         loop {
-            let (next, stop, its, evals) = self.solve(state, held, params);
+            let (next, stop, its, evals) = self.solve(state, held, lambda, params);
             state = next;
             iterations += its;
             evaluations += evals;
@@ -402,11 +412,13 @@ impl Problem<'_> {
     }
 
     /// Levenberg–Marquardt over the views that are neither the reference nor `held`, from
-    /// `state`. Returns the final state, why it stopped, accepted steps and evaluations.
+    /// `state`, with damping `damping` at first; `damping` is left at that of the last step
+    /// taken. Returns the final state, why it stopped, accepted steps and evaluations.
     fn solve(
         &self,
         mut state: State,
         held: &[bool],
+        damping: &mut f64,
         params: &RegistrationParams,
     ) -> (State, StopReason, usize, usize) {
         let free: Vec<usize> = (0..held.len())
@@ -416,7 +428,7 @@ impl Problem<'_> {
             return (state, StopReason::Converged, 0, 0);
         }
         let n = 6 * free.len();
-        let mut lambda = LAMBDA_START;
+        let mut lambda = *damping;
         let (mut iterations, mut evaluations) = (0, 0);
         loop {
             if iterations == params.map.max_iterations {
@@ -445,6 +457,7 @@ impl Problem<'_> {
                 evaluations += 1;
                 if trial.objective < state.objective {
                     lambda = (lambda / 3.0).max(1e-9);
+                    *damping = lambda;
                     break Some((trial, small));
                 }
                 if small || lambda > LAMBDA_MAX {
