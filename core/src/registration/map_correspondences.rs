@@ -6,11 +6,10 @@
 //! still a function of the poses alone.
 
 use nalgebra::Point3;
-use rayon::prelude::*;
 
 use super::map_terms::Pair;
 use super::map_view::MapView;
-use super::nearest_cache::{Nearest, NearestCache};
+use super::nearest_cache::{NearestCache, UpdateChunk};
 use crate::math::Pose;
 
 /// One pair's used source points (source frame) and their nearest target points.
@@ -33,37 +32,34 @@ impl PairNearest {
         let cache = NearestCache::new(points.len(), radius);
         Self { points, cache }
     }
-
-    /// Per used source point (by used index), its nearest target point.
-    pub(crate) fn entries(&self) -> &[Nearest] {
-        self.cache.entries()
-    }
 }
 
-/// Brings every pair's answers up to date for the poses `poses` (view → world), all pairs'
-/// work items in parallel (each entry is independent: the same answers at any thread
-/// count). The points a pair's mask leaves out are skipped: the data term does not read
-/// them, and they are brought up to date when the mask is lifted.
-pub(crate) fn update(
-    nearest: &mut [PairNearest],
-    views: &[MapView],
-    pairs: &[Pair],
+/// The work items that bring every pair's answers up to date for the poses `poses` (view
+/// → world), each with its pair's index, pairs and chunks in order; run them in any order
+/// on any thread (each entry is independent: the same answers at any thread count). The
+/// points a pair's mask leaves out are skipped: the data term does not read them, and
+/// they are brought up to date when the mask is lifted.
+pub(crate) fn begin_update<'a>(
+    nearest: &'a mut [PairNearest],
+    views: &'a [MapView],
+    pairs: &'a [Pair],
     poses: &[Pose],
-) {
-    let chunks: Vec<_> = nearest
+) -> Vec<(usize, UpdateChunk<'a>)> {
+    nearest
         .iter_mut()
         .zip(pairs)
-        .flat_map(|(n, pair)| {
+        .enumerate()
+        .flat_map(|(p, (n, pair))| {
             let to_target = poses[pair.target].inverse() * poses[pair.source];
-            n.cache.begin_update(
-                &n.points,
-                &views[pair.target].tree,
-                to_target,
-                pair.mask.as_deref(),
-            )
+            n.cache
+                .begin_update(
+                    &n.points,
+                    &views[pair.target].tree,
+                    to_target,
+                    pair.mask.as_deref(),
+                )
+                .into_iter()
+                .map(move |chunk| (p, chunk))
         })
-        .collect();
-    chunks.into_par_iter().for_each(|c| {
-        c.run();
-    });
+        .collect()
 }

@@ -70,6 +70,7 @@ use rayon::prelude::*;
 
 use super::map_correspondences::PairNearest;
 use super::map_view::MapView;
+use super::nearest_cache::Updated;
 use super::nearest_cache::matrix;
 #[cfg(doc)]
 use super::{DepthImageFreeSpace, FreeSpace, MapParams};
@@ -78,9 +79,6 @@ use crate::math::Pose;
 /// A viewing ray is followed to the target's plane only where it meets it at more than
 /// this cosine of the normal (≈ 17° from grazing): nearer the plane the crossing runs off.
 const MIN_RAY_INCIDENCE: f64 = 0.3;
-
-/// Source points per parallel work item.
-const CHUNK: usize = 256;
 
 /// A target surfel whose normal faces away from the source's sensor by more than this
 /// cosine cannot be what the source saw (the far side of a thin object seen from the
@@ -106,13 +104,6 @@ pub(crate) struct Pair {
     /// the edge of its surface where its sensor saw through); every other one costs what
     /// a true match is expected to cost, wherever the views move.
     pub contradictions_only: bool,
-}
-
-impl Pair {
-    /// Points of the source used by this pair.
-    pub(crate) fn used(&self, views: &[MapView]) -> usize {
-        views[self.source].len().div_ceil(self.stride)
-    }
 }
 
 /// The kernel, noise and matching constants of the data term.
@@ -296,15 +287,22 @@ pub(crate) fn evaluate(
     centres: &[Point3<f64>],
     kernel: &Kernel,
 ) -> DataTerm {
-    let items: Vec<(usize, usize)> = pairs
-        .iter()
-        .enumerate()
-        .flat_map(|(p, pair)| (0..pair.used(views).div_ceil(CHUNK)).map(move |c| (p, c)))
-        .collect();
-    super::map_correspondences::update(nearest, views, pairs, poses);
-    let sums: Vec<Sums> = items
-        .par_iter()
-        .map(|&(p, c)| chunk_sums(views, &pairs[p], &nearest[p], c, poses, centres, kernel))
+    // Each work item brings a chunk of a pair's correspondences up to date and sums its
+    // terms at once, on the same thread.
+    let work = super::map_correspondences::begin_update(nearest, views, pairs, poses);
+    let items: Vec<usize> = work.iter().map(|(p, _)| *p).collect();
+    let sums: Vec<Sums> = work
+        .into_par_iter()
+        .map(|(p, chunk)| {
+            chunk_sums(
+                views,
+                &pairs[p],
+                chunk.run_and_read(),
+                poses,
+                centres,
+                kernel,
+            )
+        })
         .collect();
     let w = views.len();
     let mut term = DataTerm {
@@ -317,7 +315,7 @@ pub(crate) fn evaluate(
         views: w,
         normal: OnceCell::new(),
     };
-    for (&(p, _), s) in items.iter().zip(sums) {
+    for (&p, s) in items.iter().zip(sums) {
         let (v, t) = (pairs[p].source, pairs[p].target);
         term.matched[p].extend_from_slice(&s.matched);
         term.cost += s.cost;
@@ -396,8 +394,7 @@ fn ray_covariance(u: &Vector3<f64>, variance: f64) -> Matrix3<f64> {
 fn chunk_sums(
     views: &[MapView],
     pair: &Pair,
-    nearest: &PairNearest,
-    chunk: usize,
+    nearest: Updated<'_>,
     poses: &[Pose],
     centres: &[Point3<f64>],
     kernel: &Kernel,
@@ -419,18 +416,17 @@ fn chunk_sums(
         cost: 0.0,
         inliers: 0,
         sum_sq: 0.0,
-        matched: Vec::with_capacity(CHUNK),
+        matched: Vec::with_capacity(nearest.entries.len()),
         linear: ChunkLinear {
             source: pair.source,
             target: pair.target,
             rotation: pt_rotation,
             translation: pt_translation,
             centres: [centres[pair.source].coords, centres[pair.target].coords],
-            inliers: Vec::with_capacity(CHUNK),
+            inliers: Vec::with_capacity(nearest.entries.len()),
         },
     };
-    let used = pair.used(views);
-    for k in chunk * CHUNK..((chunk + 1) * CHUNK).min(used) {
+    for (k, entry) in (nearest.start..).zip(nearest.entries) {
         s.matched.push(false);
         if pair.mask.as_ref().is_some_and(|m| !m[k]) {
             continue;
@@ -447,7 +443,7 @@ fn chunk_sums(
                 .as_ref()
                 .map(|f| f.contains(&x) && f.contains(&(x + ray * src.sigmas[i])))
         };
-        let Some((j, _)) = nearest.entries()[k].within(kernel.max_distance) else {
+        let Some((j, _)) = entry.within(kernel.max_distance) else {
             // Out of reach: an outlier, unless the target's sensor never looked there.
             s.cost += pair.weight
                 * match seen_through() {

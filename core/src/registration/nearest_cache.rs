@@ -204,9 +204,25 @@ pub(crate) struct UpdateChunk<'a> {
     context: UpdateContext<'a>,
 }
 
-impl UpdateChunk<'_> {
+/// A chunk's entries once brought up to date.
+pub(crate) struct Updated<'a> {
+    /// The entries, up to date.
+    pub(crate) entries: &'a [Nearest],
+    /// Index of the first of them in the cache.
+    pub(crate) start: usize,
+    /// k-d tree searches made.
+    pub(crate) searches: usize,
+}
+
+impl<'a> UpdateChunk<'a> {
     /// Brings the chunk's entries up to date; returns the number of k-d tree searches.
     pub(crate) fn run(self) -> usize {
+        self.run_and_read().searches
+    }
+
+    /// Brings the chunk's entries up to date and hands them back, to be read at once on
+    /// the same thread.
+    pub(crate) fn run_and_read(self) -> Updated<'a> {
         let UpdateContext {
             points,
             target,
@@ -270,7 +286,11 @@ impl UpdateChunk<'_> {
                 hint = Some(entry.index as usize);
             }
         }
-        searches
+        Updated {
+            entries: self.entries,
+            start: self.start,
+            searches,
+        }
     }
 }
 
