@@ -19,7 +19,8 @@
 //! kept only if `F` fell, else the damping grows. Each solve after a run's first starts
 //! at the damping of the last step taken (a stage starts where the last one ended; from
 //! the first solve's damping every later stage spent five or more rejected steps
-//! climbing back to it on the paper's Table II case). It stops converged when a step would
+//! climbing back to it on the paper's Table II case), except the first along the rays,
+//! which starts afresh as a run started there does. It stops converged when a step would
 //! turn no view by more than `rotation_tolerance` and move no view's centroid by more than
 //! `translation_tolerance`, whatever the damping that shortened it (the data term is
 //! piecewise smooth: a point changing its nearest target point or crossing an edge makes
@@ -68,8 +69,8 @@ use crate::math::Pose;
 /// Source points sampled per pair for the overlap test.
 const OVERLAP_SAMPLES: usize = 200;
 
-/// Damping bounds of Levenberg–Marquardt (the start of a run's first solve; each later
-/// solve starts at the damping of the last step taken).
+/// Damping bounds of Levenberg–Marquardt (the start of a run's first solve and of its
+/// first along the rays; each other solve starts at the damping of the last step taken).
 const LAMBDA_START: f64 = 1e-4;
 const LAMBDA_MAX: f64 = 1e8;
 
@@ -203,9 +204,11 @@ pub(crate) fn run(
         corrections = state.corrections.clone();
         if !moved || stages == map.max_stages || stop != StopReason::Converged {
             if map.along_rays && !problem.kernel.along_rays && stop == StopReason::Converged {
-                // Converged by nearest points: refine along the camera's rays from there.
+                // Converged by nearest points: refine along the camera's rays from there,
+                // as a run started there would (from the first damping: a new objective).
                 problem.kernel.along_rays = true;
                 stages = 0;
+                lambda = LAMBDA_START;
                 continue;
             }
             break (state, stop);
