@@ -236,7 +236,10 @@ struct Blocks {
 
 impl ChunkLinear {
     /// `J_v = [S_x, I]` and `J_w = −[S_y, I]` with `S = −[x − c]×` (a perturbation about
-    /// the view's centre `c`): every block of `JᵀAJ` is a 3×3 product.
+    /// the view's centre `c`): every block of `JᵀAJ` is a 3×3 product. Summed in the
+    /// target's frame, where the inliers are, and turned into the world frame once: with
+    /// `R` the target's rotation, `S_world = R S Rᵀ` and `A_world = R A Rᵀ`, so each block
+    /// is `diag(R, R) · block · diag(R, R)ᵀ`.
     fn blocks(&self) -> Blocks {
         let mut b = Blocks {
             hvv: Matrix6::zeros(),
@@ -246,15 +249,13 @@ impl ChunkLinear {
             gw: Vector6::zeros(),
         };
         let r = &self.rotation;
-        let [cx, cy] = &self.centres;
+        // The correction centres in the target's frame.
+        let [cx, cy] = self.centres.map(|c| r.transpose() * (c - self.translation));
         for l in &self.inliers {
-            // To the world frame: x and y about their views' centres, `a` as `R a Rᵀ`.
-            let a = &(r * l.a * r.transpose());
-            let e = r * (l.x - l.y);
-            let x = r * l.x + self.translation - cx;
-            let y = r * l.y + self.translation - cy;
-            let sx = -x.cross_matrix();
-            let sy = -y.cross_matrix();
+            let a = &l.a;
+            let e = l.x - l.y;
+            let sx = -(l.x - cx).cross_matrix();
+            let sy = -(l.y - cy).cross_matrix();
             let (asx, asy) = (a * sx, a * sy);
             add_jtaj(&mut b.hvv, &sx, &asx, &asx, a, 1.0);
             add_jtaj(&mut b.hww, &sy, &asy, &asy, a, 1.0);
@@ -262,6 +263,20 @@ impl ChunkLinear {
             let ae = a * e;
             add_jtae(&mut b.gv, &sx, &ae, 1.0);
             add_jtae(&mut b.gw, &sy, &ae, -1.0);
+        }
+        for h in [&mut b.hvv, &mut b.hvw, &mut b.hww] {
+            for (row, col) in [(0, 0), (0, 3), (3, 0), (3, 3)] {
+                let mut block = h.fixed_view_mut::<3, 3>(row, col);
+                let turned = r * block.clone_owned() * r.transpose();
+                block.copy_from(&turned);
+            }
+        }
+        for g in [&mut b.gv, &mut b.gw] {
+            for row in [0, 3] {
+                let mut part = g.fixed_rows_mut::<3>(row);
+                let turned = r * part.clone_owned();
+                part.copy_from(&turned);
+            }
         }
         b
     }
