@@ -251,19 +251,41 @@ impl ChunkLinear {
         let r = &self.rotation;
         // The correction centres in the target's frame.
         let [cx, cy] = self.centres.map(|c| r.transpose() * (c - self.translation));
+        // The distinct sums: `J_vᵀAJ_v = [[Σ S_xᵀAS_x, (Σ AS_x)ᵀ], [Σ AS_x, Σ A]]`,
+        // `J_wᵀAJ_w` alike with `S_y`, `J_vᵀAJ_w = −[[Σ S_xᵀAS_y, (Σ AS_x)ᵀ], [Σ AS_y, Σ A]]`.
+        let mut sum = [Matrix3::zeros(); 6];
+        let [sxx, sxy, syy, asx_sum, asy_sum, a_sum] = &mut sum;
+        let (mut sx_ae, mut sy_ae, mut ae_sum) =
+            (Vector3::zeros(), Vector3::zeros(), Vector3::zeros());
         for l in &self.inliers {
             let a = &l.a;
-            let e = l.x - l.y;
             let sx = -(l.x - cx).cross_matrix();
             let sy = -(l.y - cy).cross_matrix();
             let (asx, asy) = (a * sx, a * sy);
-            add_jtaj(&mut b.hvv, &sx, &asx, &asx, a, 1.0);
-            add_jtaj(&mut b.hww, &sy, &asy, &asy, a, 1.0);
-            add_jtaj(&mut b.hvw, &sx, &asx, &asy, a, -1.0);
-            let ae = a * e;
-            add_jtae(&mut b.gv, &sx, &ae, 1.0);
-            add_jtae(&mut b.gw, &sy, &ae, -1.0);
+            *sxx += sx.transpose() * asx;
+            *sxy += sx.transpose() * asy;
+            *syy += sy.transpose() * asy;
+            *asx_sum += asx;
+            *asy_sum += asy;
+            *a_sum += a;
+            let ae = a * (l.x - l.y);
+            sx_ae += sx.transpose() * ae;
+            sy_ae += sy.transpose() * ae;
+            ae_sum += ae;
         }
+        let [sxx, sxy, syy, asx_sum, asy_sum, a_sum] = sum;
+        let put = |h: &mut Matrix6<f64>, blocks: [Matrix3<f64>; 4]| {
+            for ((row, col), m) in [(0, 0), (0, 3), (3, 0), (3, 3)].into_iter().zip(blocks) {
+                h.fixed_view_mut::<3, 3>(row, col).copy_from(&m);
+            }
+        };
+        put(&mut b.hvv, [sxx, asx_sum.transpose(), asx_sum, a_sum]);
+        put(&mut b.hww, [syy, asy_sum.transpose(), asy_sum, a_sum]);
+        put(&mut b.hvw, [-sxy, -asx_sum.transpose(), -asy_sum, -a_sum]);
+        b.gv.fixed_rows_mut::<3>(0).copy_from(&sx_ae);
+        b.gv.fixed_rows_mut::<3>(3).copy_from(&ae_sum);
+        b.gw.fixed_rows_mut::<3>(0).copy_from(&(-sy_ae));
+        b.gw.fixed_rows_mut::<3>(3).copy_from(&(-ae_sum));
         for h in [&mut b.hvv, &mut b.hvw, &mut b.hww] {
             for (row, col) in [(0, 0), (0, 3), (3, 0), (3, 3)] {
                 let mut block = h.fixed_view_mut::<3, 3>(row, col);
@@ -346,34 +368,6 @@ pub(crate) fn evaluate(
 fn add_block(h: &mut DMatrix<f64>, a: usize, b: usize, block: &Matrix6<f64>) {
     let mut view = h.fixed_view_mut::<6, 6>(6 * a, 6 * b);
     view += block;
-}
-
-/// `h += sign·J_lᵀ A J_r` for `J = [S, I]`, given `A S_l`, `A S_r` and `A` (symmetric):
-/// `[[S_lᵀ A S_r, (A S_l)ᵀ], [A S_r, A]]`.
-fn add_jtaj(
-    h: &mut Matrix6<f64>,
-    s_left: &Matrix3<f64>,
-    a_s_left: &Matrix3<f64>,
-    a_s_right: &Matrix3<f64>,
-    a: &Matrix3<f64>,
-    sign: f64,
-) {
-    let mut add = |row: usize, col: usize, m: Matrix3<f64>| {
-        let mut block = h.fixed_view_mut::<3, 3>(row, col);
-        block += m * sign;
-    };
-    add(0, 0, s_left.transpose() * a_s_right);
-    add(0, 3, a_s_left.transpose());
-    add(3, 0, *a_s_right);
-    add(3, 3, *a);
-}
-
-/// `g += sign·Jᵀ (A e)` for `J = [S, I]`: `[Sᵀ A e, A e]`.
-fn add_jtae(g: &mut Vector6<f64>, s: &Matrix3<f64>, ae: &Vector3<f64>, sign: f64) {
-    let mut top = g.fixed_rows_mut::<3>(0);
-    top += s.transpose() * ae * sign;
-    let mut bottom = g.fixed_rows_mut::<3>(3);
-    bottom += ae * sign;
 }
 
 /// The target point whose surfel the source point `x` (target frame) saw: where its
