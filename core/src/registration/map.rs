@@ -22,7 +22,8 @@
 //! climbing back to it on the paper's Table II case), except the first along the rays,
 //! which starts afresh as a run started there does. It stops converged when a step would
 //! turn no view by more than `rotation_tolerance` and move no view's centroid by more than
-//! `translation_tolerance`, whatever the damping that shortened it (the data term is
+//! `translation_tolerance`, whatever the damping that shortened it, without evaluating
+//! that step (it could move the poses by less than the tolerance; the data term is
 //! piecewise smooth: a point changing its nearest target point or crossing an edge makes
 //! `F` jump, and near the minimum every longer step crosses such a jump; creeping on by
 //! ever shorter steps took two thirds of the evaluations on the paper's Table II case),
@@ -454,27 +455,27 @@ impl Problem<'_> {
                 let corrections = self.apply(&state.corrections, &free, &delta);
                 // Within the tolerance at any damping: the damping only grew because no
                 // longer step lowered F, so descending from here reaches nothing farther
-                // than the tolerance (the trust region has shrunk below it).
-                let small = self.is_small(&state.corrections, &free, &delta, params);
+                // than the tolerance (the trust region has shrunk below it). Converged
+                // here, without evaluating the step.
+                if self.is_small(&state.corrections, &free, &delta, params) {
+                    break None;
+                }
                 let trial = self.state(corrections);
                 evaluations += 1;
                 if trial.objective < state.objective {
                     lambda = (lambda / 3.0).max(1e-9);
                     *damping = lambda;
-                    break Some((trial, small));
+                    break Some(trial);
                 }
-                if small || lambda > LAMBDA_MAX {
+                if lambda > LAMBDA_MAX {
                     break None;
                 }
                 lambda *= 5.0;
             };
             match step {
-                Some((trial, small)) => {
+                Some(trial) => {
                     state = trial;
                     iterations += 1;
-                    if small {
-                        return (state, StopReason::Converged, iterations, evaluations);
-                    }
                 }
                 // No step lowers F: the poses are a minimum to within the tolerance.
                 None => return (state, StopReason::Converged, iterations, evaluations),
