@@ -274,32 +274,23 @@ impl ChunkLinear {
             ae_sum += ae;
         }
         let [sxx, sxy, syy, asx_sum, asy_sum, a_sum] = sum;
+        // Into the world frame as they are put in place.
         let put = |h: &mut Matrix6<f64>, blocks: [Matrix3<f64>; 4]| {
             for ((row, col), m) in [(0, 0), (0, 3), (3, 0), (3, 3)].into_iter().zip(blocks) {
-                h.fixed_view_mut::<3, 3>(row, col).copy_from(&m);
+                h.fixed_view_mut::<3, 3>(row, col)
+                    .copy_from(&(r * m * r.transpose()));
             }
         };
         put(&mut b.hvv, [sxx, asx_sum.transpose(), asx_sum, a_sum]);
         put(&mut b.hww, [syy, asy_sum.transpose(), asy_sum, a_sum]);
         put(&mut b.hvw, [-sxy, -asx_sum.transpose(), -asy_sum, -a_sum]);
-        b.gv.fixed_rows_mut::<3>(0).copy_from(&sx_ae);
-        b.gv.fixed_rows_mut::<3>(3).copy_from(&ae_sum);
-        b.gw.fixed_rows_mut::<3>(0).copy_from(&(-sy_ae));
-        b.gw.fixed_rows_mut::<3>(3).copy_from(&(-ae_sum));
-        for h in [&mut b.hvv, &mut b.hvw, &mut b.hww] {
-            for (row, col) in [(0, 0), (0, 3), (3, 0), (3, 3)] {
-                let mut block = h.fixed_view_mut::<3, 3>(row, col);
-                let turned = r * block.clone_owned() * r.transpose();
-                block.copy_from(&turned);
+        let put = |g: &mut Vector6<f64>, parts: [Vector3<f64>; 2]| {
+            for (row, v) in [0, 3].into_iter().zip(parts) {
+                g.fixed_rows_mut::<3>(row).copy_from(&(r * v));
             }
-        }
-        for g in [&mut b.gv, &mut b.gw] {
-            for row in [0, 3] {
-                let mut part = g.fixed_rows_mut::<3>(row);
-                let turned = r * part.clone_owned();
-                part.copy_from(&turned);
-            }
-        }
+        };
+        put(&mut b.gv, [sx_ae, ae_sum]);
+        put(&mut b.gw, [-sy_ae, -ae_sum]);
         b
     }
 }
