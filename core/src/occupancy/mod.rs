@@ -40,6 +40,7 @@
 
 mod grid_file;
 mod grid_geometry;
+mod lattice_planes;
 mod log_odds;
 mod occlusion_distances;
 mod occupancy_error;

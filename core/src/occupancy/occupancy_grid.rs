@@ -6,6 +6,7 @@ use rayon::prelude::*;
 
 use super::OccupancyError;
 use super::grid_geometry::{GridGeometry, VoxelIndex};
+use super::lattice_planes::LatticePlanes;
 use super::log_odds::{OccupancyParams, VoxelState, probability};
 use super::scan_marks::{MARK_FREE, MARK_HIT, ScanMarks};
 use super::voxel_traversal::VoxelTraversal;
@@ -327,13 +328,14 @@ impl OccupancyGrid {
     /// (rays starting in one are dropped).
     fn stopped_at_occupied(&self, free: &[FreeRay]) -> Vec<FreeRay> {
         let eps = self.params.occupied_epsilon;
+        let planes = LatticePlanes::new(&self.geometry);
         free.par_iter()
             .filter_map(|r| {
                 let d = r.end - r.origin;
                 let len = d.norm();
                 let walk = VoxelTraversal::new(&self.geometry, &r.origin, &d, len).ok()?;
                 let stop = walk
-                    .find_map_linear(|l, t| (self.log_odds[l] > eps).then_some(t))
+                    .find_map_linear_on(&planes, |l, t| (self.log_odds[l] > eps).then_some(t))
                     .unwrap_or(len);
                 // Just short of the occupied voxel's entry face.
                 let stop = stop - 1e-9 * self.geometry.resolution();
@@ -433,13 +435,14 @@ fn trace_scan(
     max_range: f64,
     free: &[FreeRay],
 ) -> Traced {
+    let planes = LatticePlanes::new(geometry);
     // Passes in parallel; each task also lists its rays' hit voxels and counts.
     let tasks = by_task(origins, points, |os, ps| {
         let mut touched = Vec::new();
         let mut hits = Vec::new();
         let (mut truncated, mut outside) = (0usize, 0usize);
         for (o, p) in os.iter().zip(ps) {
-            let dist = trace_ray(geometry, o, p, max_range, marks, &mut touched);
+            let dist = trace_ray(&planes, o, p, max_range, marks, &mut touched);
             if dist > max_range {
                 truncated += 1;
             } else if let Some(h) = geometry.voxel_of(p).and_then(|v| geometry.linear(v)) {
@@ -463,7 +466,7 @@ fn trace_scan(
             let mut touched = Vec::new();
             for r in rays {
                 trace_ray(
-                    geometry,
+                    &planes,
                     &r.origin,
                     &r.end,
                     f64::INFINITY,
@@ -507,7 +510,7 @@ fn by_task<T: Send>(
 /// phase overwrites it), listing the ones it marked first in `touched`; returns the ray's
 /// length.
 fn trace_ray(
-    g: &GridGeometry,
+    planes: &LatticePlanes,
     o: &Point3<f64>,
     p: &Point3<f64>,
     max_range: f64,
@@ -518,8 +521,13 @@ fn trace_ray(
     let dist = r.norm();
     if dist > 0.0 {
         // The direction is non-zero and finite: the traversal cannot fail.
-        if let Ok(traversal) = VoxelTraversal::new(g, o, &r, dist.min(max_range)) {
-            traversal.for_each_linear(|l| marks.pass(l, touched));
+        if let Ok(traversal) =
+            VoxelTraversal::with_norm(planes.geometry(), o, &r, dist, dist.min(max_range))
+        {
+            traversal.find_map_linear_on(planes, |l, _| -> Option<()> {
+                marks.pass(l, touched);
+                None
+            });
         }
     }
     dist

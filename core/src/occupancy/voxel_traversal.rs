@@ -8,6 +8,7 @@ use nalgebra::{Point3, Vector3};
 
 use super::OccupancyError;
 use super::grid_geometry::{GridGeometry, VoxelIndex, lattice_floor};
+use super::lattice_planes::LatticePlanes;
 
 /// One voxel crossed by a ray: `t_enter ≤ t_exit` are distances (m) from the ray origin.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -82,11 +83,24 @@ impl VoxelTraversal {
         direction: &Vector3<f64>,
         max_distance: f64,
     ) -> Result<Self, OccupancyError> {
+        Self::with_norm(grid, origin, direction, direction.norm(), max_distance)
+    }
+
+    /// [`VoxelTraversal::new`] with `norm = direction.norm()` already known (the grid
+    /// update has it: it is the ray's length).
+    #[inline]
+    pub(crate) fn with_norm(
+        grid: &GridGeometry,
+        origin: &Point3<f64>,
+        direction: &Vector3<f64>,
+        norm: f64,
+        max_distance: f64,
+    ) -> Result<Self, OccupancyError> {
+        debug_assert!(norm.to_bits() == direction.norm().to_bits() || norm.is_nan());
         let bad = |reason| Err(OccupancyError::InvalidRay { index: 0, reason });
         if !(origin.x.is_finite() && origin.y.is_finite() && origin.z.is_finite()) {
             return bad("origin is not finite");
         }
-        let norm = direction.norm();
         if !(norm.is_finite() && norm > 0.0) {
             return bad("direction is zero or not finite");
         }
@@ -212,48 +226,85 @@ impl VoxelTraversal {
     /// assert_eq!(found, Some((third.linear, third.t_enter)));
     /// ```
     #[inline]
-    pub fn find_map_linear<B>(self, mut f: impl FnMut(usize, f64) -> Option<B>) -> Option<B> {
+    pub fn find_map_linear<B>(self, f: impl FnMut(usize, f64) -> Option<B>) -> Option<B> {
+        let (min, res) = (self.min, self.resolution);
+        self.walk(|a, k| min[a] + k as f64 * res, f)
+    }
+
+    /// [`VoxelTraversal::find_map_linear`] with the boundary planes read from `planes`,
+    /// which must be this traversal's lattice's: the same voxels and distances, bit for
+    /// bit, one load in place of a plane's arithmetic per step (the grid update's loop).
+    #[inline]
+    pub(crate) fn find_map_linear_on<B>(
+        self,
+        planes: &LatticePlanes,
+        f: impl FnMut(usize, f64) -> Option<B>,
+    ) -> Option<B> {
+        debug_assert!(
+            planes.geometry().dims().map(|n| n as i64) == self.dims
+                && planes.geometry().resolution() == self.resolution
+        );
+        let [px, py, pz] = [planes.axis(0), planes.axis(1), planes.axis(2)];
+        self.walk(
+            |a, k| match a {
+                0 => px[k],
+                1 => py[k],
+                _ => pz[k],
+            },
+            f,
+        )
+    }
+
+    /// The walk of [`VoxelTraversal::find_map_linear`], with `plane(a, k)` the coordinate
+    /// of axis `a`'s boundary plane `k` (`min[a] + k·resolution`, however it is found).
+    #[inline]
+    fn walk<B>(
+        self,
+        plane: impl Fn(usize, usize) -> f64,
+        mut f: impl FnMut(usize, f64) -> Option<B>,
+    ) -> Option<B> {
         if self.done {
             return None;
         }
         /// One axis of the walk: the linear stride of a step, the steps left inside the
-        /// grid, the index of the next boundary plane (as f64, exact) and its increment.
+        /// grid, the index of the next boundary plane and its increment.
         #[derive(Clone, Copy)]
         struct Axis {
             stride: isize,
             left: i64,
-            plane: f64,
-            step: f64,
+            plane: usize,
+            step: isize,
         }
         let strides = [1isize, self.nx as isize, self.nxy as isize];
         let axis = |a: usize| match self.step[a] {
             1 => Axis {
                 stride: strides[a],
                 left: self.dims[a] - 1 - self.idx[a],
-                plane: (self.idx[a] + 1) as f64,
-                step: 1.0,
+                plane: (self.idx[a] + 1) as usize,
+                step: 1,
             },
             -1 => Axis {
                 stride: -strides[a],
                 left: self.idx[a],
-                plane: self.idx[a] as f64,
-                step: -1.0,
+                plane: self.idx[a] as usize,
+                step: -1,
             },
             _ => Axis {
                 stride: 0,
                 left: 0,
-                plane: 0.0,
-                step: 0.0,
+                plane: 0,
+                step: 0,
             },
         };
         let (mut x, mut y, mut z) = (axis(0), axis(1), axis(2));
         let [mut tx, mut ty, mut tz] = self.t_next;
-        let (min, res, origin, inv) = (self.min, self.resolution, self.origin, self.inv_dir);
+        let (origin, inv) = (self.origin, self.inv_dir);
         let t_end = self.t_end;
         let mut lin =
             self.idx[0] as usize + self.nx * self.idx[1] as usize + self.nxy * self.idx[2] as usize;
-        // The same expression as `boundary`: no accumulated increments.
-        let boundary = |a: usize, plane: f64| (min[a] + plane * res - origin[a]) * inv[a];
+        // The same expression as `boundary`: no accumulated increments. A plane is only
+        // read after a step that stayed inside the grid, so `k ≤ dims[a]`.
+        let boundary = |a: usize, k: usize| (plane(a, k) - origin[a]) * inv[a];
         // No distance is NaN, so `<` picks the minimum as `f64::min` does.
         let less = |a: f64, b: f64| if a < b { a } else { b };
         let mut t_enter = self.t;
@@ -267,31 +318,31 @@ impl VoxelTraversal {
             }
             t_enter = tn;
             // Every axis whose next plane is at `tn` steps (ties step together).
-            if tx == tn {
+            if tx <= tn {
                 if x.left == 0 {
                     return None;
                 }
                 x.left -= 1;
                 lin = lin.wrapping_add_signed(x.stride);
-                x.plane += x.step;
+                x.plane = x.plane.wrapping_add_signed(x.step);
                 tx = boundary(0, x.plane);
             }
-            if ty == tn {
+            if ty <= tn {
                 if y.left == 0 {
                     return None;
                 }
                 y.left -= 1;
                 lin = lin.wrapping_add_signed(y.stride);
-                y.plane += y.step;
+                y.plane = y.plane.wrapping_add_signed(y.step);
                 ty = boundary(1, y.plane);
             }
-            if tz == tn {
+            if tz <= tn {
                 if z.left == 0 {
                     return None;
                 }
                 z.left -= 1;
                 lin = lin.wrapping_add_signed(z.stride);
-                z.plane += z.step;
+                z.plane = z.plane.wrapping_add_signed(z.step);
                 tz = boundary(2, z.plane);
             }
         }
@@ -575,6 +626,14 @@ mod tests {
                 });
                 prop_assert_eq!(none, None);
                 prop_assert_eq!(&fast_t, &slow_t);
+                // The planes read from a table, with the norm given: the same, bit for bit.
+                let mut table_t = Vec::new();
+                VoxelTraversal::with_norm(&g, &o, &dir, dir.norm(), t_max).unwrap()
+                    .find_map_linear_on(&LatticePlanes::new(&g), |l, t| {
+                        table_t.push((l, t.to_bits()));
+                        None::<()>
+                    });
+                prop_assert_eq!(&table_t, &slow_t);
                 if let Some(&(l, t)) = slow_t.get(skip) {
                     let found = g.traverse(&o, &dir, t_max).unwrap()
                         .find_map_linear(|l2, t2| (l2 == l && t2.to_bits() == t).then_some(t2));
