@@ -152,5 +152,47 @@ fn paper_object(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, table_ii, paper_object);
+/// The 16 nearest points of every point of one Table II view (3000 points), as the MAP's
+/// surfels take them: `KNearest`'s cell grid against one kiddo k-d tree query per point
+/// (the previous way), on one thread.
+fn neighbourhoods(c: &mut Criterion) {
+    use kiddo::{ImmutableKdTree, SquaredEuclidean};
+    use nbv_core::cloud::KNearest;
+    use std::num::NonZeroUsize;
+    let s = generate(&Spec {
+        views: 5,
+        top_view: true,
+        points_per_view: 3000,
+        noise: 0.0003,
+        ..Spec::default()
+    });
+    let points = &s.views[1].points;
+    let k = NonZeroUsize::new(16).expect("k > 0");
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("thread pool");
+    let mut group = c.benchmark_group("neighbourhoods_16_of_3000");
+    group.bench_function("k_nearest_cell_grid", |b| {
+        b.iter(|| pool.install(|| KNearest::of_each(black_box(points), k)))
+    });
+    group.bench_function("kiddo_query_per_point", |b| {
+        b.iter(|| {
+            let coords: Vec<[f64; 3]> = points.iter().map(|p| [p.x, p.y, p.z]).collect();
+            let tree = ImmutableKdTree::<f64, 3>::new_from_slice(&coords).expect("tree");
+            coords
+                .iter()
+                .map(|q| {
+                    tree.query(q)
+                        .nearest_n::<SquaredEuclidean<f64>>(k)
+                        .execute()
+                        .len()
+                })
+                .sum::<usize>()
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, table_ii, paper_object, neighbourhoods);
 criterion_main!(benches);

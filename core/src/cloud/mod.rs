@@ -4,6 +4,7 @@
 
 mod euclidean_cluster;
 pub mod io;
+mod k_nearest;
 mod outlier_filter;
 mod plane_ransac;
 mod point_cloud;
@@ -13,6 +14,7 @@ mod voxel_filter;
 
 pub use euclidean_cluster::{Cluster, EuclideanClustering};
 pub use io::{CloudIoError, read_cloud, write_cloud};
+pub use k_nearest::KNearest;
 pub use outlier_filter::StatisticalOutlierFilter;
 pub use plane_ransac::{PlaneFit, PlaneRansac};
 pub use point_cloud::{CloudError, PointCloud};

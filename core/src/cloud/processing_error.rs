@@ -32,8 +32,8 @@ pub enum ProcessingError {
         /// Points in the cloud.
         got: usize,
     },
-    /// The cloud has more points than a k-d tree index can address (u32 items).
-    #[error("the cloud has {0} points, more than a k-d tree can index")]
+    /// The cloud has more points than 32-bit indices (a k-d tree's items) can address.
+    #[error("the cloud has {0} points, more than 32-bit indices can address")]
     TooManyPoints(usize),
     /// A coordinate divided by the voxel size does not fit a voxel key.
     #[error("point {index} is too far from the origin for voxel size {leaf_size}")]

@@ -28,7 +28,7 @@ use super::free_space::FreeSpace;
 use super::neighbour_graph::NeighbourGraph;
 use super::view_tree::ViewTree;
 use super::{RangeNoise, RegistrationError};
-use crate::cloud::PointCloud;
+use crate::cloud::{KNearest, PointCloud};
 
 /// Largest standard error (rad) of a surfel's normal for it to be used (≈ 8.6°).
 const MAX_NORMAL_ERROR: f64 = 0.15;
@@ -129,12 +129,17 @@ impl MapView {
         };
         let centre = cloud.origin_centroid().unwrap_or_else(|| tree.centroid());
         let k = NonZeroUsize::new(k.max(3)).unwrap_or(NonZeroUsize::MIN);
+        let nearest = KNearest::of_each(points, k).map_err(|e| RegistrationError::KdTree {
+            view: index,
+            message: e.to_string(),
+        })?;
         let per_point: Vec<(Surfel, f64, Neighbours)> = (0..points.len().div_ceil(CHUNK))
             .into_par_iter()
             .map(|c| {
                 (c * CHUNK..((c + 1) * CHUNK).min(points.len()))
                     .map(|i| {
-                        let near = tree.nearest_k(&points[i], k);
+                        let near: Vec<usize> =
+                            nearest.of(i).iter().map(|&(j, _)| j as usize).collect();
                         let surfel = fit_surfel(
                             &points[i],
                             near.iter().map(|&j| points[j]),
