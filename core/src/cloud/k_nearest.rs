@@ -35,11 +35,11 @@ const HINT_GROWTH: f64 = 1.5;
 /// use std::num::NonZeroUsize;
 /// use nalgebra::Point3;
 /// use nbv_core::cloud::KNearest;
-/// let points: Vec<_> = (0..10).map(|i| Point3::new(i as f64 * 0.1, 0.0, 0.0)).collect();
+/// let points: Vec<_> = (0..10).map(|i| Point3::new(i as f64 * 0.25, 0.0, 0.0)).collect();
 /// let near = KNearest::of_each(&points, NonZeroUsize::new(3).unwrap()).unwrap();
 /// let third: Vec<u32> = near.of(3).iter().map(|&(j, _)| j).collect();
 /// assert_eq!(third, vec![3, 2, 4]); // itself, then the tie 2 / 4 by index
-/// assert!((near.of(3)[1].1 - 0.01).abs() < 1e-12); // squared distances
+/// assert_eq!(near.of(3)[1].1, 0.0625); // squared distances
 /// assert_eq!(near.of(0).len(), 3);
 /// ```
 #[derive(Debug, Clone)]
