@@ -95,9 +95,6 @@ impl SeenEmpty {
     }
 }
 
-/// A point's nearest points as [`NeighbourGraph::from_sorted`] takes them.
-type Neighbours = (Vec<(u32, f64)>, bool);
-
 impl MapView {
     /// Prepares view `index` (already checked) with its sensor noise; `k` neighbours per
     /// surfel.
@@ -133,47 +130,34 @@ impl MapView {
             view: index,
             message: e.to_string(),
         })?;
-        let per_point: Vec<(Surfel, f64, Neighbours)> = (0..points.len().div_ceil(CHUNK))
+        let per_point: Vec<(Surfel, f64)> = (0..points.len().div_ceil(CHUNK))
             .into_par_iter()
             .map(|c| {
                 (c * CHUNK..((c + 1) * CHUNK).min(points.len()))
                     .map(|i| {
-                        let near: Vec<usize> =
-                            nearest.of(i).iter().map(|&(j, _)| j as usize).collect();
+                        let near = nearest.of(i);
                         let surfel = fit_surfel(
                             &points[i],
-                            near.iter().map(|&j| points[j]),
+                            near.iter().map(|&(j, _)| points[j as usize]),
                             sigmas[i],
                             &rays[i],
                         );
                         // The nearest point is the point itself (or a duplicate of it):
                         // the second nearest gives the gap to a neighbour.
-                        let gap = near.get(1).map_or(0.0, |&j| (points[j] - points[i]).norm());
-                        // The same neighbours list the point in the neighbour graph
-                        // (nearest first, ties by index, as the graph's own search).
-                        let mut listed: Vec<(u32, f64)> = near
-                            .iter()
-                            .map(|&j| (j as u32, (points[j] - points[i]).norm_squared()))
-                            .collect();
-                        listed.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-                        let complete = near.len() < k.get();
-                        (surfel, gap, (listed, complete))
+                        let gap = near.get(1).map_or(0.0, |&(_, sq)| sq.sqrt());
+                        (surfel, gap)
                     })
                     .collect::<Vec<_>>()
             })
             .flatten_iter()
             .collect();
-        let mut surfels = Vec::with_capacity(per_point.len());
-        let mut gaps = Vec::with_capacity(per_point.len());
-        let mut lists = Vec::with_capacity(per_point.len());
-        for (surfel, gap, listed) in per_point {
-            surfels.push(surfel);
-            gaps.push(gap);
-            lists.push(listed);
-        }
+        let (surfels, mut gaps): (Vec<Surfel>, Vec<f64>) = per_point.into_iter().unzip();
         // The nearest-point caches repair their answers by walks on this graph instead of
-        // searching the tree again (`nearest_cache.rs`).
-        tree.set_graph(NeighbourGraph::from_sorted(lists));
+        // searching the tree again (`nearest_cache.rs`): the same neighbours, nearest
+        // first, ties by index, as the graph's own search.
+        tree.set_graph(NeighbourGraph::from_sorted(
+            (0..points.len()).map(|i| (nearest.of(i), nearest.of(i).len() < k.get())),
+        ));
         gaps.sort_by(f64::total_cmp);
         let spacing = gaps.get(gaps.len() / 2).copied().unwrap_or(0.0);
         Ok(Self {

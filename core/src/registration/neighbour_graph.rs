@@ -71,9 +71,9 @@ impl NeighbourGraph {
             })
             .collect();
         let want = want.get();
-        Self::from_sorted(lists.into_iter().flatten().map(|found| {
+        Self::from_sorted(lists.iter().flatten().map(|found| {
             let complete = found.len() < want;
-            (found, complete)
+            (found.as_slice(), complete)
         }))
     }
 
@@ -81,26 +81,29 @@ impl NeighbourGraph {
     /// distance)` (the point itself among them), and whether the list holds every point of
     /// the view; otherwise every point closer than its last one must be in it. At most
     /// `K + 1` entries of each list are used.
-    pub(crate) fn from_sorted(lists: impl IntoIterator<Item = (Vec<(u32, f64)>, bool)>) -> Self {
+    pub(crate) fn from_sorted<'a>(
+        lists: impl IntoIterator<Item = (&'a [(u32, f64)], bool)>,
+    ) -> Self {
         let lists = lists.into_iter();
         let mut neighbours = Vec::with_capacity(lists.size_hint().0 * K);
         let mut reach = Vec::with_capacity(lists.size_hint().0);
-        for (i, (mut found, complete)) in lists.enumerate() {
+        for (i, (found, complete)) in lists.enumerate() {
             let complete = complete && found.len() <= K + 1;
-            found.truncate(K + 1);
+            let found = &found[..found.len().min(K + 1)];
             // Every point closer than the farthest found one was found.
             let r = match found.last() {
                 Some(&(_, sq)) if !complete => sq.sqrt(),
                 _ => f64::INFINITY,
             };
-            let mut list: Vec<u32> = found
-                .into_iter()
-                .map(|(j, _)| j)
-                .filter(|&j| j as usize != i)
-                .take(K)
-                .collect();
-            list.resize(K, i as u32);
-            neighbours.extend_from_slice(&list);
+            let start = neighbours.len();
+            neighbours.extend(
+                found
+                    .iter()
+                    .map(|&(j, _)| j)
+                    .filter(|&j| j as usize != i)
+                    .take(K),
+            );
+            neighbours.resize(start + K, i as u32);
             reach.push(r);
         }
         Self { neighbours, reach }
@@ -181,7 +184,7 @@ mod tests {
         ) {
             let points: Vec<Point3<f64>> = coords.iter().map(|c| Point3::from(*c)).collect();
             let graph = if from_lists {
-                NeighbourGraph::from_sorted(points.iter().map(|p| {
+                let lists: Vec<(Vec<(u32, f64)>, bool)> = points.iter().map(|p| {
                     let mut all: Vec<(u32, f64)> = points
                         .iter()
                         .enumerate()
@@ -191,7 +194,8 @@ mod tests {
                     let complete = k >= all.len();
                     all.truncate(k);
                     (all, complete)
-                }))
+                }).collect();
+                NeighbourGraph::from_sorted(lists.iter().map(|(l, c)| (l.as_slice(), *c)))
             } else {
                 NeighbourGraph::build(&points, &tree(&points))
             };
