@@ -29,6 +29,7 @@ use super::neighbour_graph::NeighbourGraph;
 use super::view_tree::ViewTree;
 use super::{RangeNoise, RegistrationError};
 use crate::cloud::{KNearest, PointCloud};
+use crate::math::symmetric_eigen3;
 
 /// Largest standard error (rad) of a surfel's normal for it to be used (≈ 8.6°).
 const MAX_NORMAL_ERROR: f64 = 0.15;
@@ -197,29 +198,29 @@ fn fit_surfel(
         let d = p.coords - mean;
         c + d * d.transpose()
     }) / n;
-    let eig = cov.symmetric_eigen();
+    let (eigenvalues, eigenvectors) = symmetric_eigen3(&cov);
     let mut order = [0usize, 1, 2];
-    order.sort_by(|&a, &b| eig.eigenvalues[a].total_cmp(&eig.eigenvalues[b]));
+    order.sort_by(|&a, &b| eigenvalues[a].total_cmp(&eigenvalues[b]));
     let (l0, l1) = (
-        eig.eigenvalues[order[0]].max(0.0),
-        eig.eigenvalues[order[1]].max(0.0),
+        eigenvalues[order[0]].max(0.0),
+        eigenvalues[order[1]].max(0.0),
     );
     let reliable = l1 > 0.0 && l0 / (n * l1) < MAX_NORMAL_ERROR * MAX_NORMAL_ERROR;
     // The mean's offset from the point along each in-plane axis, in that axis's σ.
     let offset = mean - point.coords;
     let on_edge = order[1..].iter().any(|&a| {
-        let spread = eig.eigenvalues[a].max(0.0).sqrt();
-        let along = offset.dot(&eig.eigenvectors.column(a)).abs();
+        let spread = eigenvalues[a].max(0.0).sqrt();
+        let along = offset.dot(&eigenvectors.column(a)).abs();
         spread > 0.0 && along > BOUNDARY_OFFSET * spread
     });
-    let across = eig.eigenvectors.column(order[0]).into_owned();
+    let across = eigenvectors.column(order[0]).into_owned();
     let boundary = on_edge
         .then(|| -(offset - across * offset.dot(&across)))
         .and_then(|out| out.try_normalize(1e-12));
     Surfel {
         position: Point3::from(mean),
         normal: reliable.then(|| {
-            let n = eig.eigenvectors.column(order[0]).normalize();
+            let n = eigenvectors.column(order[0]).normalize();
             if n.dot(ray) > 0.0 { -n } else { n }
         }),
         variance: sigma * sigma / n,
