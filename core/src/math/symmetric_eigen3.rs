@@ -31,30 +31,24 @@ const MAX_SWEEPS: usize = 32;
 /// assert!((back - m).norm() < 1e-12);
 /// ```
 pub fn symmetric_eigen3(m: &Matrix3<f64>) -> (Vector3<f64>, Matrix3<f64>) {
-    // The upper triangle, symmetrised.
-    let mut a = Matrix3::new(
-        m[(0, 0)],
-        m[(0, 1)],
-        m[(0, 2)],
-        m[(0, 1)],
-        m[(1, 1)],
-        m[(1, 2)],
-        m[(0, 2)],
-        m[(1, 2)],
-        m[(2, 2)],
-    );
+    // The diagonal and the upper triangle.
+    let mut d = [m[(0, 0)], m[(1, 1)], m[(2, 2)]];
+    // off[r] is the entry off the diagonal in the row and column that are not r:
+    // off[0] = m₁₂, off[1] = m₀₂, off[2] = m₀₁.
+    let mut off = [m[(1, 2)], m[(0, 2)], m[(0, 1)]];
     let mut v = Matrix3::identity();
     for _ in 0..MAX_SWEEPS {
         let mut rotated = false;
-        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
-            let apq = a[(p, q)];
-            let (app, aqq) = (a[(p, p)], a[(q, q)]);
+        // The pairs (p, q) and the third index r.
+        for (p, q, r) in [(0, 1, 2), (0, 2, 1), (1, 2, 0)] {
+            let apq = off[r];
+            let (app, aqq) = (d[p], d[q]);
             // Negligible against both diagonal entries (relative accuracy), or zero.
-            if apq.abs() <= f64::EPSILON * 0.5 * (app * aqq).abs().sqrt() || apq == 0.0 {
+            if apq == 0.0 || apq.abs() <= f64::EPSILON * 0.5 * (app * aqq).abs().sqrt() {
                 continue;
             }
             rotated = true;
-            // The rotation that zeroes a[p][q]: t = tan θ, the smaller root.
+            // The rotation that zeroes the (p, q) entry: t = tan θ, the smaller root.
             let theta = (aqq - app) / (2.0 * apq);
             let t = if theta.abs() > 1e150 {
                 0.5 / theta
@@ -63,19 +57,14 @@ pub fn symmetric_eigen3(m: &Matrix3<f64>) -> (Vector3<f64>, Matrix3<f64>) {
             };
             let c = 1.0 / (t * t + 1.0).sqrt();
             let s = t * c;
-            // a ← Jᵀ·a·J, applied to rows and columns p and q.
-            for k in 0..3 {
-                let (akp, akq) = (a[(k, p)], a[(k, q)]);
-                a[(k, p)] = c * akp - s * akq;
-                a[(k, q)] = s * akp + c * akq;
-            }
-            for k in 0..3 {
-                let (apk, aqk) = (a[(p, k)], a[(q, k)]);
-                a[(p, k)] = c * apk - s * aqk;
-                a[(q, k)] = s * apk + c * aqk;
-            }
-            a[(p, q)] = 0.0;
-            a[(q, p)] = 0.0;
+            // Jᵀ·a·J: the (p, q) entry vanishes, the diagonal takes ∓t·a_pq, and the
+            // entries (r, p) and (r, q) turn by the rotation.
+            d[p] = app - t * apq;
+            d[q] = aqq + t * apq;
+            off[r] = 0.0;
+            let (arp, arq) = (off[q], off[p]);
+            off[q] = c * arp - s * arq;
+            off[p] = s * arp + c * arq;
             for k in 0..3 {
                 let (vkp, vkq) = (v[(k, p)], v[(k, q)]);
                 v[(k, p)] = c * vkp - s * vkq;
@@ -86,7 +75,7 @@ pub fn symmetric_eigen3(m: &Matrix3<f64>) -> (Vector3<f64>, Matrix3<f64>) {
             break;
         }
     }
-    (Vector3::new(a[(0, 0)], a[(1, 1)], a[(2, 2)]), v)
+    (Vector3::from(d), v)
 }
 
 #[cfg(test)]
