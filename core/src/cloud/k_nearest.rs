@@ -188,13 +188,16 @@ impl CellGrid {
     /// point) and the cells per axis of a grid over the box `lo`–`hi`.
     fn layout(lo: &[f64; 3], hi: &[f64; 3], edge: f64, points: usize) -> (f64, [usize; 3]) {
         let mut edge = edge;
-        loop {
+        // Doubling from any positive f64 passes any finite extent within ~2100 steps; an
+        // edge of 0 or an extent beyond f64 (coordinates near ±f64::MAX) ends in one cell.
+        for _ in 0..2100 {
             let counts: [f64; 3] = std::array::from_fn(|a| ((hi[a] - lo[a]) / edge).floor() + 1.0);
             if counts.iter().product::<f64>() <= (8 * points + 64) as f64 {
                 return (edge, counts.map(|c| c as usize));
             }
             edge *= 2.0;
         }
+        (f64::INFINITY, [1, 1, 1])
     }
 
     /// The cell of finite point `p` (`p − lo ≥ 0`: the cast truncates, which is the floor).
@@ -624,6 +627,27 @@ mod tests {
 
     #[test]
     fn degenerate_sets() {
+        // Extents at the ends of f64's range: no endless layout, the same answers.
+        for scale in [1e-310, 1e-200, 1e200, 1e307] {
+            let points: Vec<Point3<f64>> = (0..20)
+                .map(|i| {
+                    Point3::new(
+                        i as f64 * scale,
+                        -(i as f64) * scale,
+                        (i % 3) as f64 * scale,
+                    )
+                })
+                .collect();
+            check(&points, 5).unwrap();
+        }
+        let far = [
+            Point3::new(-1e308, 0.0, 0.0),
+            Point3::new(1e308, 0.0, 0.0),
+            Point3::origin(),
+        ];
+        let near = KNearest::of_each(&far, NonZeroUsize::new(2).unwrap()).unwrap();
+        assert_eq!(near.of(2)[0].0, 2);
+
         let k = NonZeroUsize::new(4).unwrap();
         assert!(KNearest::of_each(&[], k).unwrap().is_empty());
         let same = vec![Point3::new(1.0, 2.0, 3.0); 6];
