@@ -3,11 +3,10 @@
 
 use std::num::NonZeroUsize;
 
-use kiddo::SquaredEuclidean;
 use rayon::prelude::*;
 
-use super::PointCloud;
-use super::processing_error::{ProcessingError, build_kd_tree, check_cloud};
+use super::processing_error::{ProcessingError, check_cloud};
+use super::{KNearest, PointCloud};
 
 /// Statistical outlier removal. For every point, `d_i` is the mean Euclidean distance to
 /// its `neighbours` nearest other points (a k-d tree query, kiddo). With `μ` and `σ` the
@@ -60,29 +59,22 @@ impl StatisticalOutlierFilter {
                 got: cloud.len(),
             });
         }
-        let tree = build_kd_tree(cloud)?;
-        let k_plus_self = k.saturating_add(1);
-        let distances = cloud
-            .points
-            .par_iter()
-            .enumerate()
-            .map(|(i, p)| {
-                let q = [p.x, p.y, p.z];
-                let found = tree
-                    .query(&q)
-                    .nearest_n::<SquaredEuclidean<f64>>(k_plus_self)
-                    .execute();
+        let nearest = KNearest::of_each(&cloud.points, k.saturating_add(1))?;
+        let distances = (0..cloud.len())
+            .into_par_iter()
+            .map(|i| {
+                let found = nearest.of(i);
                 // Drop the point itself; with exact duplicates it may be absent, then the
                 // farthest of the k + 1 goes (sorted ascending by distance).
                 let skip = found
                     .iter()
-                    .position(|r| r.item as usize == i)
+                    .position(|&(j, _)| j as usize == i)
                     .unwrap_or(found.len().saturating_sub(1));
                 let sum: f64 = found
                     .iter()
                     .enumerate()
                     .filter(|&(j, _)| j != skip)
-                    .map(|(_, r)| r.distance.sqrt())
+                    .map(|(_, &(_, sq))| sq.sqrt())
                     .sum();
                 sum / self.neighbours as f64
             })

@@ -17,7 +17,7 @@ use std::num::NonZeroUsize;
 use nalgebra::{Matrix6, Point3, Vector3, Vector6};
 
 use super::nearest_cache::NearestCache;
-use super::normals::normals_from_tree;
+use super::normals::normals_of;
 use super::procrustes::fit_pairs;
 use super::view_tree::{ViewTree, check_pose, check_view};
 use super::{IcpParams, IcpReport, RegistrationError, StopReason, settled};
@@ -53,7 +53,7 @@ impl IcpTarget {
                             reason: "must be at least 3",
                         },
                     )?;
-                    normals_from_tree(&tree, cloud.origins.as_deref(), k)
+                    normals_of(view, &cloud.points, cloud.origins.as_deref(), k)?
                 }
             })
         } else {

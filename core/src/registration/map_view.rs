@@ -156,9 +156,7 @@ impl MapView {
         // The nearest-point caches repair their answers by walks on this graph instead of
         // searching the tree again (`nearest_cache.rs`): the same neighbours, nearest
         // first, ties by index, as the graph's own search.
-        tree.set_graph(NeighbourGraph::from_sorted(
-            (0..points.len()).map(|i| (nearest.of(i), nearest.of(i).len() < k.get())),
-        ));
+        tree.set_graph(NeighbourGraph::from_nearest(&nearest));
         gaps.sort_by(f64::total_cmp);
         let spacing = gaps.get(gaps.len() / 2).copied().unwrap_or(0.0);
         Ok(Self {

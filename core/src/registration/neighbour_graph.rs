@@ -13,15 +13,12 @@
 
 use std::num::NonZeroUsize;
 
-use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::Point3;
-use rayon::prelude::*;
+
+use crate::cloud::{KNearest, ProcessingError};
 
 /// Neighbours listed per point.
 const K: usize = 8;
-
-/// Points per parallel work item when building.
-const CHUNK: usize = 256;
 
 /// Steps after which a walk gives up (it ends long before on real data).
 const MAX_STEPS: usize = 64;
@@ -47,34 +44,22 @@ pub(crate) struct Walk {
 }
 
 impl NeighbourGraph {
-    /// Builds the graph of `points` with their k-d tree (in parallel; each point's list
-    /// depends only on the data).
-    pub(crate) fn build(points: &[Point3<f64>], tree: &ImmutableKdTree<f64, 3>) -> Self {
-        let want = NonZeroUsize::new(K + 1).unwrap_or(NonZeroUsize::MIN);
-        let lists: Vec<Vec<Vec<(u32, f64)>>> = (0..points.len().div_ceil(CHUNK))
-            .into_par_iter()
-            .map(|c| {
-                (c * CHUNK..((c + 1) * CHUNK).min(points.len()))
-                    .map(|i| {
-                        let p = &points[i];
-                        let mut found: Vec<(u32, f64)> = tree
-                            .query(&[p.x, p.y, p.z])
-                            .nearest_n::<SquaredEuclidean<f64>>(want)
-                            .execute()
-                            .into_iter()
-                            .map(|r| (r.item, r.distance))
-                            .collect();
-                        found.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-                        found
-                    })
-                    .collect()
-            })
-            .collect();
-        let want = want.get();
-        Self::from_sorted(lists.iter().flatten().map(|found| {
-            let complete = found.len() < want;
-            (found.as_slice(), complete)
+    /// The graph of a view's points from their nearest points (at least `K + 1` per
+    /// point asked of [`KNearest`], the point itself among them).
+    pub(crate) fn from_nearest(nearest: &KNearest) -> Self {
+        let k = nearest.k();
+        Self::from_sorted((0..nearest.len()).map(|i| {
+            let found = nearest.of(i);
+            (found, found.len() < k)
         }))
+    }
+
+    /// The nearest points a graph of `points` needs, as [`Self::from_nearest`] takes them.
+    pub(crate) fn nearest(points: &[Point3<f64>]) -> Result<KNearest, ProcessingError> {
+        KNearest::of_each(
+            points,
+            NonZeroUsize::new(K + 1).unwrap_or(NonZeroUsize::MIN),
+        )
     }
 
     /// The graph from each point's nearest points, nearest first, as `(index, squared
@@ -162,16 +147,13 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
-    fn tree(points: &[Point3<f64>]) -> ImmutableKdTree<f64, 3> {
-        let coords: Vec<[f64; 3]> = points.iter().map(|p| [p.x, p.y, p.z]).collect();
-        ImmutableKdTree::<f64, 3>::builder()
-            .build_from_slice(&coords)
-            .unwrap()
+    fn build(points: &[Point3<f64>]) -> NeighbourGraph {
+        NeighbourGraph::from_nearest(&NeighbourGraph::nearest(points).unwrap())
     }
 
     proptest! {
         /// A walk that succeeds finds the brute-force nearest point, and its bound holds
-        /// for every other point — on the graph the tree builds, and on one made from
+        /// for every other point — on the graph of its `K + 1` nearest points, and on one made from
         /// lists of any length `k` (as the MAP's views make it from their surfels'
         /// neighbours).
         #[test]
@@ -197,7 +179,7 @@ mod tests {
                 }).collect();
                 NeighbourGraph::from_sorted(lists.iter().map(|(l, c)| (l.as_slice(), *c)))
             } else {
-                NeighbourGraph::build(&points, &tree(&points))
+                build(&points)
             };
             let q = Point3::from(q);
             let start = start % points.len();
@@ -222,7 +204,7 @@ mod tests {
         let points: Vec<_> = (0..40)
             .map(|i| Point3::new(i as f64 * 0.01, 0.0, 0.0))
             .collect();
-        let graph = NeighbourGraph::build(&points, &tree(&points));
+        let graph = build(&points);
         let q = Point3::new(0.2012, 0.001, 0.0);
         let w = graph.walk(&points, &q, 19).unwrap();
         assert_eq!(w.index, 20);
@@ -231,7 +213,7 @@ mod tests {
         assert!(graph.walk(&points, &q, 0).is_none());
         // A view too small to fill the list: every point is listed, the reach is infinite.
         let few = &points[..3];
-        let small = NeighbourGraph::build(few, &tree(few));
+        let small = build(few);
         assert_eq!(
             small
                 .walk(few, &Point3::new(5.0, 0.0, 0.0), 0)

@@ -9,8 +9,8 @@ use nalgebra::{Matrix3, Point3, Vector3};
 use rayon::prelude::*;
 
 use super::RegistrationError;
-use super::view_tree::{ViewTree, check_view};
-use crate::cloud::PointCloud;
+use super::view_tree::check_view;
+use crate::cloud::{KNearest, PointCloud};
 
 /// Points per parallel work item.
 const CHUNK: usize = 256;
@@ -38,24 +38,27 @@ pub fn estimate_normals(
         },
     )?;
     check_view(0, cloud)?;
-    let tree = ViewTree::build(0, &cloud.points)?;
-    Ok(normals_from_tree(&tree, cloud.origins.as_deref(), k))
+    normals_of(0, &cloud.points, cloud.origins.as_deref(), k)
 }
 
-/// Normals of the points of `tree` (see [`estimate_normals`]).
-pub(crate) fn normals_from_tree(
-    tree: &ViewTree,
+/// Normals of the points of view `view` (checked; see [`estimate_normals`]).
+pub(crate) fn normals_of(
+    view: usize,
+    points: &[Point3<f64>],
     origins: Option<&[Point3<f64>]>,
     k: NonZeroUsize,
-) -> Vec<Vector3<f64>> {
-    let points = tree.points();
+) -> Result<Vec<Vector3<f64>>, RegistrationError> {
+    let nearest = KNearest::of_each(points, k).map_err(|e| RegistrationError::KdTree {
+        view,
+        message: e.to_string(),
+    })?;
     let chunks: Vec<Vec<Vector3<f64>>> = (0..points.len().div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
             (c * CHUNK..((c + 1) * CHUNK).min(points.len()))
                 .map(|i| {
-                    let neighbours = tree.nearest_k(&points[i], k);
-                    let n = pca_normal(neighbours.iter().map(|&j| points[j]));
+                    let neighbours = nearest.of(i);
+                    let n = pca_normal(neighbours.iter().map(|&(j, _)| points[j as usize]));
                     let sensor = origins.map_or(Point3::origin(), |o| o[i]);
                     if n.dot(&(sensor - points[i])) < 0.0 {
                         -n
@@ -66,7 +69,7 @@ pub(crate) fn normals_from_tree(
                 .collect()
         })
         .collect();
-    chunks.concat()
+    Ok(chunks.concat())
 }
 
 /// Direction of least spread of a set of points.

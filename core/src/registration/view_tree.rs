@@ -63,7 +63,12 @@ impl ViewTree {
         points: &[Point3<f64>],
     ) -> Result<Self, RegistrationError> {
         let mut tree = Self::build(view, points)?;
-        tree.graph = Some(NeighbourGraph::build(&tree.points, &tree.tree));
+        let nearest =
+            NeighbourGraph::nearest(&tree.points).map_err(|e| RegistrationError::KdTree {
+                view,
+                message: e.to_string(),
+            })?;
+        tree.graph = Some(NeighbourGraph::from_nearest(&nearest));
         Ok(tree)
     }
 
@@ -139,18 +144,6 @@ impl ViewTree {
             .nearest_one::<SquaredEuclidean<f64>>()
             .execute();
         (found.distance <= radius * radius).then_some(found.item as usize)
-    }
-
-    /// Indices of the `k` nearest points to `q` (fewer if the view is smaller), nearest
-    /// first.
-    pub(crate) fn nearest_k(&self, q: &Point3<f64>, k: NonZeroUsize) -> Vec<usize> {
-        self.tree
-            .query(&[q.x, q.y, q.z])
-            .nearest_n::<SquaredEuclidean<f64>>(k)
-            .execute()
-            .into_iter()
-            .map(|r| r.item as usize)
-            .collect()
     }
 }
 
