@@ -318,7 +318,7 @@ impl VoxelTraversal {
             }
             t_enter = tn;
             // Every axis whose next plane is at `tn` steps (ties step together).
-            if tx <= tn {
+            if tx == tn {
                 if x.left == 0 {
                     return None;
                 }
@@ -327,7 +327,7 @@ impl VoxelTraversal {
                 x.plane = x.plane.wrapping_add_signed(x.step);
                 tx = boundary(0, x.plane);
             }
-            if ty <= tn {
+            if ty == tn {
                 if y.left == 0 {
                     return None;
                 }
@@ -336,7 +336,7 @@ impl VoxelTraversal {
                 y.plane = y.plane.wrapping_add_signed(y.step);
                 ty = boundary(1, y.plane);
             }
-            if tz <= tn {
+            if tz == tn {
                 if z.left == 0 {
                     return None;
                 }
