@@ -44,8 +44,11 @@ const HINT_GROWTH: f64 = 1.5;
 /// ```
 #[derive(Debug, Clone)]
 pub struct KNearest {
+    /// Neighbours asked for per point.
     k: usize,
-    /// Point i's neighbours are `entries[i * k..i * k + counts[i]]`.
+    /// Entries kept per point: `k`, or the set's size if smaller (no list is longer).
+    stride: usize,
+    /// Point i's neighbours are `entries[i * stride..i * stride + counts[i]]`.
     entries: Vec<(u32, f64)>,
     counts: Vec<u32>,
 }
@@ -74,13 +77,16 @@ impl KNearest {
     /// The `k` nearest points of every point of `points` (in parallel; each list depends
     /// only on the data). Errors for more points than a `u32` indexes.
     pub fn of_each(points: &[Point3<f64>], k: NonZeroUsize) -> Result<Self, ProcessingError> {
-        let k = k.get();
+        let k_asked = k.get();
         let n = points.len();
         if u32::try_from(n).is_err() {
             return Err(ProcessingError::TooManyPoints(n));
         }
+        // No list is longer than the set: `k` beyond it costs nothing.
+        let k = k.get().min(n.max(1));
         let mut out = Self {
-            k,
+            k: k_asked,
+            stride: k,
             entries: vec![(0, 0.0); n * k],
             counts: vec![0; n],
         };
@@ -139,7 +145,7 @@ impl KNearest {
     /// Point `i`'s nearest points as `(index, squared distance)`, nearest first, ties by
     /// index.
     pub fn of(&self, i: usize) -> &[(u32, f64)] {
-        &self.entries[i * self.k..i * self.k + self.counts[i] as usize]
+        &self.entries[i * self.stride..i * self.stride + self.counts[i] as usize]
     }
 }
 

@@ -9,7 +9,7 @@ use super::processing_error::{ProcessingError, check_cloud};
 use super::{KNearest, PointCloud};
 
 /// Statistical outlier removal. For every point, `d_i` is the mean Euclidean distance to
-/// its `neighbours` nearest other points (a k-d tree query, kiddo). With `μ` and `σ` the
+/// its `neighbours` nearest other points ([`KNearest`]). With `μ` and `σ` the
 /// mean and sample standard deviation of all `d_i`, a point is kept when
 /// `d_i ≤ μ + std_mul·σ`.
 ///

@@ -154,8 +154,7 @@ impl MapView {
             .collect();
         let (surfels, mut gaps): (Vec<Surfel>, Vec<f64>) = per_point.into_iter().unzip();
         // The nearest-point caches repair their answers by walks on this graph instead of
-        // searching the tree again (`nearest_cache.rs`): the same neighbours, nearest
-        // first, ties by index, as the graph's own search.
+        // searching the tree again (`nearest_cache.rs`); it lists the surfels' neighbours.
         tree.set_graph(NeighbourGraph::from_nearest(&nearest));
         gaps.sort_by(f64::total_cmp);
         let spacing = gaps.get(gaps.len() / 2).copied().unwrap_or(0.0);
