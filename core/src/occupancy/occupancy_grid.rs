@@ -226,7 +226,8 @@ impl OccupancyGrid {
     ) -> Result<(ScanVoxels, ScanUpdate), OccupancyError> {
         check_scan(origins, points, max_range)?;
         let mut marks = ScanMarks::new(self.geometry.len());
-        let traced = trace_scan(&self.geometry, &marks, origins, points, max_range, &[]);
+        let planes = LatticePlanes::new(&self.geometry);
+        let traced = trace_scan(&planes, &marks, origins, points, max_range, &[]);
         let mut voxels = ScanVoxels::default();
         for &l in traced.touched.iter().flatten() {
             let l = l as usize;
@@ -286,16 +287,10 @@ impl OccupancyGrid {
     ) -> Result<ScanUpdate, OccupancyError> {
         check_scan(origins, points, max_range)?;
         check_free(free)?;
-        let free = self.stopped_at_occupied(free);
+        let planes = LatticePlanes::new(&self.geometry);
+        let free = self.stopped_at_occupied(&planes, free);
         self.marks.ensure_len(self.geometry.len());
-        let traced = trace_scan(
-            &self.geometry,
-            &self.marks,
-            origins,
-            points,
-            max_range,
-            &free,
-        );
+        let traced = trace_scan(&planes, &self.marks, origins, points, max_range, &free);
         let params = self.params;
         let mut update = ScanUpdate {
             rays: points.len(),
@@ -326,16 +321,15 @@ impl OccupancyGrid {
 
     /// `free` with each ray cut where it enters the first voxel this grid holds occupied
     /// (rays starting in one are dropped).
-    fn stopped_at_occupied(&self, free: &[FreeRay]) -> Vec<FreeRay> {
+    fn stopped_at_occupied(&self, planes: &LatticePlanes, free: &[FreeRay]) -> Vec<FreeRay> {
         let eps = self.params.occupied_epsilon;
-        let planes = LatticePlanes::new(&self.geometry);
         free.par_iter()
             .filter_map(|r| {
                 let d = r.end - r.origin;
                 let len = d.norm();
                 let walk = VoxelTraversal::new(&self.geometry, &r.origin, &d, len).ok()?;
                 let stop = walk
-                    .find_map_linear_on(&planes, |l, t| (self.log_odds[l] > eps).then_some(t))
+                    .find_map_linear_on(planes, |l, t| (self.log_odds[l] > eps).then_some(t))
                     .unwrap_or(len);
                 // Just short of the occupied voxel's entry face.
                 let stop = stop - 1e-9 * self.geometry.resolution();
@@ -428,21 +422,21 @@ fn check_scan(
 /// order in which rays or threads store, and hits overwrite passes as OctoMap's update
 /// does.
 fn trace_scan(
-    geometry: &GridGeometry,
+    planes: &LatticePlanes,
     marks: &ScanMarks,
     origins: &[Point3<f64>],
     points: &[Point3<f64>],
     max_range: f64,
     free: &[FreeRay],
 ) -> Traced {
-    let planes = LatticePlanes::new(geometry);
+    let geometry = planes.geometry();
     // Passes in parallel; each task also lists its rays' hit voxels and counts.
     let tasks = by_task(origins, points, |os, ps| {
         let mut touched = Vec::new();
         let mut hits = Vec::new();
         let (mut truncated, mut outside) = (0usize, 0usize);
         for (o, p) in os.iter().zip(ps) {
-            let dist = trace_ray(&planes, o, p, max_range, marks, &mut touched);
+            let dist = trace_ray(planes, o, p, max_range, marks, &mut touched);
             if dist > max_range {
                 truncated += 1;
             } else if let Some(h) = geometry.voxel_of(p).and_then(|v| geometry.linear(v)) {
@@ -466,7 +460,7 @@ fn trace_scan(
             let mut touched = Vec::new();
             for r in rays {
                 trace_ray(
-                    &planes,
+                    planes,
                     &r.origin,
                     &r.end,
                     f64::INFINITY,
