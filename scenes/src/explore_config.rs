@@ -200,6 +200,7 @@ impl Scene {
             uncertainty: self.pose_uncertainty(),
             align_to_workcell: self.registration.align_to_workcell,
             calibrate_hand_eye: self.registration.calibrate_hand_eye,
+            table_evidence: self.registration.table_evidence,
             registration_free_space: self.registration.free_space,
             camera_free_space: self.registration.camera_free_space,
             registration_smoothing: self.registration.smoothing as usize,

@@ -6,7 +6,7 @@
 //! saw empty space.
 
 use super::step_timer::timed;
-use super::{ExplorationMap, ExploreConfig, ObjectRegion, PipelineError, StepTimes};
+use super::{ExplorationMap, ExploreConfig, ObjectRegion, PipelineError, StepTimes, TableEvidence};
 use crate::cloud::{PlaneFit, PointCloud};
 use crate::kinematics::Joints;
 use crate::math::Pose;
@@ -138,6 +138,46 @@ fn object_points(
     // misalignment is the registration's to correct.
     let known = &config.phase_one.exclude;
     cloud.retain_indices(|i| !known.iter().any(|b| b.contains(&cloud.points[i])))
+}
+
+/// Height (m) above the table at which a known obstacle's box is tested for standing on
+/// a point of the table.
+const FOOTPRINT_LIFT: f64 = 0.001;
+
+/// What the table says of a view at `pose` (`frame`: its points at that pose), around
+/// the objects' `footprints` (their regions' floors brought down to the table) and the
+/// known obstacles, and nearer than three of a single frame's σ short of the camera's
+/// `max_range` (there the limit drops the far side of the noise before the burst is
+/// averaged); `None` unless the self-calibration uses it and phase 1 found the table.
+pub(super) fn table_evidence(
+    frame: &PointCloud,
+    pose: &Pose,
+    max_range: f64,
+    footprints: &[ObjectRegion],
+    table: Option<&PlaneFit>,
+    config: &ExploreConfig,
+) -> Option<TableEvidence> {
+    if !(config.calibrate_hand_eye && config.table_evidence) {
+        return None;
+    }
+    let single = config.uncertainty.camera_noise;
+    let noise = single.averaged(config.frames_per_view.max(1));
+    let known = &config.phase_one.exclude;
+    let plane = table?;
+    TableEvidence::of_view(
+        &frame.points,
+        &Point3::from(pose.translation.vector),
+        plane,
+        noise,
+        max_range - 3.0 * single.sigma(max_range),
+        |q| {
+            let above = q + plane.normal.into_inner() * FOOTPRINT_LIFT;
+            let under_object = footprints
+                .iter()
+                .any(|r| (0..2).all(|k| q[k] >= r.min[k] && q[k] <= r.max[k]));
+            !under_object && !known.iter().any(|b| b.contains(&above))
+        },
+    )
 }
 
 /// `config.frames_per_view` frames (at least one) at the camera's current pose, averaged,

@@ -1,8 +1,8 @@
 //! [`Episode`]: what every stage of one run of the method shares — the rig, the
-//! configuration, the observer, the collisions counted and the paths executed since
-//! phase 1.
+//! configuration, the observer, the collisions counted, the paths executed since phase 1
+//! and the objects' regions.
 
-use super::{ExploreConfig, ExploreObserver};
+use super::{ExploreConfig, ExploreObserver, ObjectRegion};
 use crate::rig::{JointPath, Rig};
 
 /// One run of the method in progress.
@@ -17,6 +17,8 @@ pub(super) struct Episode<'e, 'r> {
     pub collisions: usize,
     /// The paths executed since phase 1, to go back along when the arm is boxed in.
     pub trail: Vec<JointPath>,
+    /// Every object's region after phase 1: where the table is not the table's alone.
+    pub footprints: Vec<ObjectRegion>,
 }
 
 impl<'e, 'r> Episode<'e, 'r> {
@@ -32,6 +34,7 @@ impl<'e, 'r> Episode<'e, 'r> {
             observer,
             collisions: 0,
             trail: Vec::new(),
+            footprints: Vec::new(),
         }
     }
 }

@@ -50,9 +50,14 @@ pub fn explore(
     let sweep = (config.mode != ExploreMode::ShortOnly && config.registration_free_space)
         .then_some(&phase_report.cloud);
     let nbv = NextBestView::new(config.nbv, ep.rig.camera.spec())?;
+    let regions: Vec<ObjectRegion> = segmentation
+        .clusters
+        .iter()
+        .map(|c| ObjectRegion::of_cluster(c, segmentation.table.as_ref(), config.object_margin))
+        .collect();
+    ep.footprints = regions.clone();
     for (j, cluster) in segmentation.clusters.iter().enumerate() {
-        let region =
-            ObjectRegion::of_cluster(cluster, segmentation.table.as_ref(), config.object_margin);
+        let region = regions[j];
         let mut object = ObjectExploration {
             index: j,
             cluster: cluster.cloud(&segmentation.filtered),

@@ -88,6 +88,9 @@ pub struct ExploreConfig {
     /// object's registration and register each object again from the calibrated poses
     /// ([`estimate_hand_eye`](super::estimate_hand_eye)).
     pub calibrate_hand_eye: bool,
+    /// Give the self-calibration each camera view's table evidence beside its
+    /// registration ([`TableEvidence`](super::TableEvidence)).
+    pub table_evidence: bool,
     /// Give the MAP registration the laser sweep's free space around each object
     /// ([`sweep_free_space`](super::sweep_free_space)).
     pub registration_free_space: bool,

@@ -1,6 +1,8 @@
 //! [`estimate_hand_eye`]: the rig calibrates itself while it explores — one correction of
 //! the depth camera's mount (hand-eye) and of the joint offsets but the last (folded into
-//! the mount, below), estimated from every object's registration.
+//! the mount, below), estimated from every object's registration and, where the views
+//! carry it, the table each view sees ([`TableEvidence`](super::TableEvidence): its height
+//! and tilts, added to the view's data information).
 //!
 //! Each camera view's sensor-frame pose error is modelled as `E + J(q)·δq + n`: the
 //! hand-eye error `E` (rotation vector and translation, shared by every camera view), the
@@ -212,6 +214,10 @@ fn covariance_of(p: &PosePrior) -> Matrix6<f64> {
     Matrix6::from_diagonal(&Vector6::new(r, r, r, t, t, t))
 }
 
+/// A view's data information `H` and `H·ξ_data` (world frame, about the sensor origin,
+/// relative to the reported pose).
+type DataEvidence = (Matrix6<f64>, Vector6<f64>);
+
 /// What one camera view tells about the calibration: the map from `(E, δq)` to its
 /// correction, the weight of its own estimate, and the estimate (world frame, about the
 /// sensor origin).
@@ -240,7 +246,10 @@ pub fn estimate_hand_eye(
     )
 }
 
-/// Each usable camera view's [`ViewEvidence`].
+/// Each usable camera view's [`ViewEvidence`]: its registration's (the accepted MAP's,
+/// where the view was neither held at its prior nor without correspondences) and its
+/// table's ([`TableEvidence`](super::TableEvidence)), as one estimate with their summed
+/// information.
 fn evidence(
     objects: &[ObjectExploration],
     robot: &Robot,
@@ -250,36 +259,25 @@ fn evidence(
     let noise = covariance_of(&uncertainty.view_noise);
     let mut terms = Vec::new();
     for object in objects {
-        let Some(r) = object.registration.as_ref().filter(|r| r.map_accepted) else {
-            continue;
-        };
-        let MethodReport::Map(report) = &r.map.report else {
-            continue;
-        };
-        let taken = object.registered_views();
-        let entries = report
-            .views
-            .iter()
-            .zip(&r.models)
-            .zip(&r.map_initial)
-            .skip(1);
-        for (view, ((v, model), initial)) in taken.zip(entries) {
-            if v.held_at_prior || v.unconstrained {
+        let registered = registration_evidence(object);
+        for (k, view) in object.registered_views().enumerate() {
+            // `H` and `H·ξ_data` of the view's data, `ξ` about the sensor origin relative
+            // to the reported pose.
+            let (mut h, mut y) = registered
+                .as_ref()
+                .and_then(|r| r.get(k).copied().flatten())
+                .unwrap_or_default();
+            if let Some(t) = &view.table {
+                h += t.information;
+                y += t.information * t.correction;
+            }
+            if h == Matrix6::zeros() {
                 continue;
             }
-            let Some(prior) = model.prior else {
-                continue;
-            };
             let Some(design) = design(robot, frame, &view.joints, &view.sensor_pose) else {
                 continue;
             };
-            let origin = Point3::from(view.sensor_pose.translation.vector);
-            let xi0 = correction_of(initial, &origin);
-            // The run's correction, relative to its initial pose.
-            let xi = Vector6::from_column_slice(&v.correction);
-            let h = v.data_information;
-            // H·ξ_data at the MAP optimum, and the view's weight (I + H·Σ_n)⁻¹·H.
-            let y = (h + prior.information()) * xi + h * xi0;
+            // The view's weight (I + H·Σ_n)⁻¹·H.
             let Some(m) = (Matrix6::identity() + h * noise).try_inverse() else {
                 continue;
             };
@@ -296,6 +294,42 @@ fn evidence(
         }
     }
     terms
+}
+
+/// Per registered view of `object` (in [`ObjectExploration::registered_views`]' order),
+/// the data information `H` of its accepted MAP registration and `H·ξ_data`, the data's
+/// own correction recovered from the MAP optimum; `None` for a view held at its prior or
+/// without correspondences, and for an object without an accepted MAP registration.
+fn registration_evidence(object: &ObjectExploration) -> Option<Vec<Option<DataEvidence>>> {
+    let r = object.registration.as_ref().filter(|r| r.map_accepted)?;
+    let MethodReport::Map(report) = &r.map.report else {
+        return None;
+    };
+    let entries = report
+        .views
+        .iter()
+        .zip(&r.models)
+        .zip(&r.map_initial)
+        .skip(1);
+    Some(
+        object
+            .registered_views()
+            .zip(entries)
+            .map(|(view, ((v, model), initial))| {
+                if v.held_at_prior || v.unconstrained {
+                    return None;
+                }
+                let prior = model.prior?;
+                let origin = Point3::from(view.sensor_pose.translation.vector);
+                let xi0 = correction_of(initial, &origin);
+                // The run's correction, relative to its initial pose.
+                let xi = Vector6::from_column_slice(&v.correction);
+                let h = v.data_information;
+                // H·ξ_data at the MAP optimum.
+                Some((h, (h + prior.information()) * xi + h * xi0))
+            })
+            .collect(),
+    )
 }
 
 /// The robust weighted least-squares `(E, δq)` of `terms` with the information `mount`

@@ -29,6 +29,7 @@ mod pose_uncertainty;
 mod register_views;
 mod results;
 mod step_timer;
+mod table_evidence;
 mod table_filter;
 
 pub use candidates::{ViewCandidates, view_candidates, viewing_centre};
@@ -47,4 +48,5 @@ pub use results::{
     AcquiredView, Exploration, ObjectExploration, ObjectRegistration, ObjectStop, PhaseOneReport,
     StepTimes, ViewFailure,
 };
+pub use table_evidence::TableEvidence;
 pub use table_filter::TableFilter;

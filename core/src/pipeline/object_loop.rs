@@ -3,7 +3,7 @@
 //! acquired and the grid updated, until the stop rule, the view cap, no reachable
 //! viewpoint (after one retreat) or a first view showing no object ends it.
 
-use super::acquire_and_update::acquire_and_update;
+use super::acquire_and_update::{acquire_and_update, table_evidence};
 use super::candidates::{ViewCandidates, view_candidates, viewing_centre};
 use super::episode::Episode;
 use super::plan_and_execute::{plan_clearing_start, retrace};
@@ -182,6 +182,16 @@ pub(super) fn explore_object(
                 table,
                 &mut object.times,
             )?;
+            let table_seen = timed(&mut object.times.registration, || {
+                table_evidence(
+                    &seen.frame,
+                    &seen.sensor_pose,
+                    ep.rig.camera.spec().range[1],
+                    &ep.footprints,
+                    table,
+                    config,
+                )
+            });
             ep.observer
                 .event(&ExploreEvent::GridUpdated { grid: &map.grid });
             visited.push(candidate.viewpoint.pose);
@@ -201,6 +211,7 @@ pub(super) fn explore_object(
                 free_space: seen.free_space,
                 registration_cloud: seen.registration_cloud,
                 gain,
+                table: table_seen,
                 plan: planned.stats,
                 failures_before: failures_since_view,
             });

@@ -110,6 +110,9 @@ pub struct AcquiredView {
     pub registration_cloud: Option<PointCloud>,
     /// Eq. (5) over O_v.
     pub gain: InformationGain,
+    /// What the table around the object tells about the view's pose (the
+    /// self-calibration's evidence beside the registration), when it is used.
+    pub table: Option<super::TableEvidence>,
     /// The planned path's statistics.
     pub plan: PlanStats,
     /// Viewpoints tried before this one succeeded (failures since the previous view).
