@@ -74,6 +74,33 @@ fn identifiable() -> SVector<f64, PARAMS> {
 /// turn about `free` (world frame, or the view's optical axis where `None`), which
 /// they leave free (and report garbage in).
 fn views(n: usize, seed: u64, free: Option<Vector3<f64>>) -> Vec<ViewEvidence> {
+    let (dr, dt) = (0.1f64.to_radians(), 0.0005);
+    views_with(n, seed, |pose| {
+        let axis = free.unwrap_or(pose.rotation * Vector3::z());
+        let mut h = Matrix6::from_diagonal(&Vector6::new(
+            1.0 / (dr * dr),
+            1.0 / (dr * dr),
+            1.0 / (dr * dr),
+            1.0 / (dt * dt),
+            1.0 / (dt * dt),
+            1.0 / (dt * dt),
+        ));
+        // No information about the turn about the axis.
+        let p = Matrix3::identity() - axis * axis.transpose();
+        let hr = p * h.fixed_view::<3, 3>(0, 0) * p;
+        h.fixed_view_mut::<3, 3>(0, 0).copy_from(&hr);
+        (h, axis, [dr, dt])
+    })
+}
+
+/// `n` camera views as in [`views`], each with what `info` gives at its pose: the data's
+/// information, the axis of the turn it leaves free (garbage in the estimate), and the σ
+/// of the estimate's noise per rotation and translation component.
+fn views_with(
+    n: usize,
+    seed: u64,
+    info: impl Fn(&crate::math::Pose) -> (Matrix6<f64>, Vector3<f64>, [f64; 2]),
+) -> Vec<ViewEvidence> {
     let robot = robot();
     let u = uncertainty();
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
@@ -115,20 +142,7 @@ fn views(n: usize, seed: u64, free: Option<Vector3<f64>>) -> Vec<ViewEvidence> {
                 st * normal(),
             );
             let truth = physical * truth() + noise;
-            let axis = free.unwrap_or(pose.rotation * Vector3::z());
-            let (dr, dt) = (0.1f64.to_radians(), 0.0005);
-            let mut h = Matrix6::from_diagonal(&Vector6::new(
-                1.0 / (dr * dr),
-                1.0 / (dr * dr),
-                1.0 / (dr * dr),
-                1.0 / (dt * dt),
-                1.0 / (dt * dt),
-                1.0 / (dt * dt),
-            ));
-            // No information about the turn about the optical axis.
-            let p = Matrix3::identity() - axis * axis.transpose();
-            let hr = p * h.fixed_view::<3, 3>(0, 0) * p;
-            h.fixed_view_mut::<3, 3>(0, 0).copy_from(&hr);
+            let (h, axis, [dr, dt]) = info(&pose);
             let mut estimate = truth
                 + Vector6::new(
                     dr * normal(),
@@ -190,6 +204,36 @@ fn forty_views_recover_the_hand_eye_within_its_own_sigma() {
     let (r, t) = errors(&e);
     assert!(r < 0.2 && t < 1.0, "off by {r}° and {t} mm");
     assert_eq!(e.views, 40);
+}
+
+#[test]
+fn forty_views_of_the_table_alone_fix_every_direction_of_the_mount() {
+    // What a view's table tells (TableEvidence): its two tilts and its height, to 0.01°
+    // and 0.1 mm, nothing about the turn about the vertical or a slide along the table.
+    // The views look at the table from many directions, so together they see the mount's
+    // every direction.
+    let (dr, dt) = (0.01f64.to_radians(), 0.0001);
+    let up = Vector3::z();
+    let tilts = Matrix3::identity() - up * up.transpose();
+    let table = |_: &crate::math::Pose| {
+        let mut h = Matrix6::zeros();
+        h.fixed_view_mut::<3, 3>(0, 0)
+            .copy_from(&(tilts / (dr * dr)));
+        h.fixed_view_mut::<3, 3>(3, 3)
+            .copy_from(&(up * up.transpose() / (dt * dt)));
+        (h, up, [dr, dt])
+    };
+    let e = solve(&views_with(40, 5, table), &mount(), &uncertainty()).unwrap();
+    assert!(within_its_sigma(&e), "{e:?}");
+    // The standstill's 2 mm / 0.2° per view is what is left: σ 0.036° / 0.92 mm here
+    // (off by 0.049° and 0.71 mm).
+    assert!(
+        e.sigma[0].to_degrees() < 0.05 && e.sigma[1] < 1.2e-3,
+        "{:?}",
+        e.sigma
+    );
+    let (r, t) = errors(&e);
+    assert!(r < 0.1 && t < 1.2, "off by {r}° and {t} mm");
 }
 
 #[test]
