@@ -85,8 +85,9 @@ pub fn summary(report: &ExploreReport) -> String {
         let deg = |v: [f64; 3]| v.map(f64::to_degrees);
         let r = deg(e.rotation);
         let mut line = format!(
-            "  hand-eye estimate from {} views: rotation [{:.2}, {:.2}, {:.2}]° translation [{:.1}, {:.1}, {:.1}] mm",
+            "  hand-eye estimate from {} views ({} with their table): rotation [{:.2}, {:.2}, {:.2}]° translation [{:.1}, {:.1}, {:.1}] mm",
             e.views,
+            e.table_views,
             r[0],
             r[1],
             r[2],

@@ -57,6 +57,8 @@ pub struct HandEyeEstimate {
     pub sigma: [f64; 2],
     /// Camera views that contributed.
     pub views: usize,
+    /// Of those, the views whose table counted too ([`TableEvidence`](super::TableEvidence)).
+    pub table_views: usize,
     /// Registration passes with a calibrated prior that followed this estimate (0: the
     /// estimate of the first pass was not used).
     pub passes: usize,
@@ -226,6 +228,8 @@ struct ViewEvidence {
     design: SMatrix<f64, 6, PARAMS>,
     weight: Matrix6<f64>,
     estimate: Vector6<f64>,
+    /// Whether the view's table is part of it.
+    table: bool,
 }
 
 /// The hand-eye correction and joint offsets from the accepted MAP registrations of
@@ -290,6 +294,7 @@ fn evidence(
                 design,
                 weight,
                 estimate: pseudo * (m * y),
+                table: view.table.is_some(),
             });
         }
     }
@@ -384,6 +389,7 @@ fn solve(
             d.fixed_rows::<3>(3).max().sqrt(),
         ],
         views: terms.len(),
+        table_views: terms.iter().filter(|t| t.table).count(),
         passes: 0,
         covariance,
     })

@@ -163,6 +163,7 @@ fn views_with(
                 design: a,
                 weight: (weight + weight.transpose()) * 0.5,
                 estimate,
+                table: false,
             }
         })
         .collect()
