@@ -265,6 +265,11 @@ mod tests {
         out
     }
 
+    /// The evidence of `points` seen from [`ORIGIN`], every table point counting.
+    fn fit(points: &[Point3<f64>]) -> Option<TableEvidence> {
+        TableEvidence::of_view(points, &ORIGIN, &table(), noise(), 1.0, |_| true)
+    }
+
     fn noise() -> RangeNoise {
         RangeNoise {
             sigma_at_1m: 0.014,
@@ -286,15 +291,7 @@ mod tests {
     fn the_plane_fixes_three_directions_within_its_sigma_and_leaves_the_others_at_zero() {
         let xi = Vector6::new(0.004, -0.003, 0.01, 0.002, -0.003, 0.004);
         for seed in 0..4 {
-            let e = TableEvidence::of_view(
-                &view(&xi, 0.014, seed),
-                &ORIGIN,
-                &table(),
-                noise(),
-                1.0,
-                |_| true,
-            )
-            .unwrap();
+            let e = fit(&view(&xi, 0.014, seed)).unwrap();
             let sigma = sigmas(&e);
             // 6 mm of range noise, 3600 points: ~1 mrad of tilt per view, ~0.4 mm of height.
             assert!(sigma[0] < 2e-3 && sigma[2] < 1e-3, "{sigma:?}");
@@ -325,15 +322,7 @@ mod tests {
         let mut mean = Vector6::zeros();
         let mut sigma = [0.0; 3];
         for seed in 0..n {
-            let e = TableEvidence::of_view(
-                &view(&xi, 0.014, 100 + seed),
-                &ORIGIN,
-                &table(),
-                noise(),
-                1.0,
-                |_| true,
-            )
-            .unwrap();
+            let e = fit(&view(&xi, 0.014, 100 + seed)).unwrap();
             mean += (e.correction - xi) / n as f64;
             sigma = sigmas(&e);
         }
@@ -355,10 +344,8 @@ mod tests {
         for p in points.iter_mut().take(360) {
             p.z += 0.04;
         }
-        let table_only =
-            TableEvidence::of_view(&points[360..], &ORIGIN, &table(), noise(), 1.0, |_| true)
-                .unwrap();
-        let e = TableEvidence::of_view(&points, &ORIGIN, &table(), noise(), 1.0, |_| true).unwrap();
+        let table_only = fit(&points[360..]).unwrap();
+        let e = fit(&points).unwrap();
         let sigma = sigmas(&table_only);
         for (k, s) in [0, 1, 5].into_iter().zip(sigma) {
             let moved = (e.correction[k] - table_only.correction[k]).abs();
@@ -371,14 +358,8 @@ mod tests {
     #[test]
     fn too_few_table_points_give_no_evidence() {
         let points = view(&Vector6::zeros(), 0.0, 3);
-        assert!(
-            TableEvidence::of_view(&points[..49], &ORIGIN, &table(), noise(), 1.0, |_| true)
-                .is_none()
-        );
-        assert!(
-            TableEvidence::of_view(&points[..60], &ORIGIN, &table(), noise(), 1.0, |_| true)
-                .is_some()
-        );
+        assert!(fit(&points[..49]).is_none());
+        assert!(fit(&points[..60]).is_some());
     }
 
     proptest! {
@@ -392,7 +373,7 @@ mod tests {
         ) {
             let xi = Vector6::new(wx, wy, wz, tx, ty, tz);
             let points = view(&xi, 0.0, 4);
-            let e = TableEvidence::of_view(&points, &ORIGIN, &table(), noise(), 1.0, |_| true).unwrap();
+            let e = fit(&points).unwrap();
             let back = correction_pose(&e.correction, &ORIGIN);
             let off = points.iter().map(|p| table().signed_distance(&(back * p)).abs()).fold(0.0, f64::max);
             prop_assert!(off < 1e-9, "{}", off);
