@@ -172,10 +172,7 @@ pub(super) fn table_evidence(
         max_range - 3.0 * single.sigma(max_range),
         |q| {
             let above = q + plane.normal.into_inner() * FOOTPRINT_LIFT;
-            let under_object = footprints
-                .iter()
-                .any(|r| (0..2).all(|k| q[k] >= r.min[k] && q[k] <= r.max[k]));
-            !under_object && !known.iter().any(|b| b.contains(&above))
+            !footprints.iter().any(|r| r.covers(q)) && !known.iter().any(|b| b.contains(&above))
         },
     )
 }

@@ -83,6 +83,21 @@ impl ObjectRegion {
         (0..3).all(|k| p[k] >= self.min[k] && p[k] <= self.max[k])
     }
 
+    /// Whether `p` lies over or under the region's footprint (its extent along x and y,
+    /// at any height).
+    ///
+    /// ```
+    /// use nbv_core::pipeline::ObjectRegion;
+    /// use nalgebra::Point3;
+    /// let r = ObjectRegion::around(Point3::new(0.0, 0.0, 0.3), Point3::new(0.1, 0.1, 0.4), 0.0, Some(0.25));
+    /// let below = Point3::new(0.05, 0.05, 0.2);
+    /// assert!(r.covers(&below) && !r.contains(&below));
+    /// assert!(!r.covers(&Point3::new(0.15, 0.05, 0.25)));
+    /// ```
+    pub fn covers(&self, p: &Point3<f64>) -> bool {
+        (0..2).all(|k| p[k] >= self.min[k] && p[k] <= self.max[k])
+    }
+
     /// The points of `cloud` in the region (all columns).
     pub fn crop(&self, cloud: &PointCloud) -> PointCloud {
         cloud.retain_indices(|i| self.contains(&cloud.points[i]))
