@@ -50,14 +50,13 @@ pub fn explore(
     let sweep = (config.mode != ExploreMode::ShortOnly && config.registration_free_space)
         .then_some(&phase_report.cloud);
     let nbv = NextBestView::new(config.nbv, ep.rig.camera.spec())?;
-    let regions: Vec<ObjectRegion> = segmentation
+    ep.footprints = segmentation
         .clusters
         .iter()
         .map(|c| ObjectRegion::of_cluster(c, segmentation.table.as_ref(), config.object_margin))
         .collect();
-    ep.footprints = regions.clone();
     for (j, cluster) in segmentation.clusters.iter().enumerate() {
-        let region = regions[j];
+        let region = ep.footprints[j];
         let mut object = ObjectExploration {
             index: j,
             cluster: cluster.cloud(&segmentation.filtered),

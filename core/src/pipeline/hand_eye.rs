@@ -267,17 +267,18 @@ fn evidence(
         for (k, view) in object.registered_views().enumerate() {
             // `H` and `H·ξ_data` of the view's data, `ξ` about the sensor origin relative
             // to the reported pose.
-            let (mut h, mut y) = registered
+            let data = registered
                 .as_ref()
-                .and_then(|r| r.get(k).copied().flatten())
-                .unwrap_or_default();
-            if let Some(t) = &view.table {
-                h += t.information;
-                y += t.information * t.correction;
-            }
-            if h == Matrix6::zeros() {
-                continue;
-            }
+                .and_then(|r| r.get(k).copied().flatten());
+            let table = view
+                .table
+                .as_ref()
+                .map(|t| (t.information, t.information * t.correction));
+            let (h, y) = match (data, table) {
+                (None, None) => continue,
+                (Some(d), None) | (None, Some(d)) => d,
+                (Some(d), Some(t)) => (d.0 + t.0, d.1 + t.1),
+            };
             let Some(design) = design(robot, frame, &view.joints, &view.sensor_pose) else {
                 continue;
             };
