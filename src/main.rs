@@ -32,6 +32,9 @@ enum Command {
     /// Phase 1 in the twin, then each object's sorted next-best-view candidates: |O_v|,
     /// score, reachable, planned, collision in truth.
     Views(cli::views::ViewsArgs),
+    /// The ground-truth ceiling of each object: the coverage every reachable camera pose
+    /// achieves together, and the greedy set cover's coverage after 1, 2, … views.
+    Oracle(cli::oracle::OracleArgs),
     /// Episodes of `nbv explore` over a grid of scenes, parameters and seeds: CSV, summary,
     /// plots, shards, resume, `--require` gates for CI.
     Sweep(cli::sweep::SweepArgs),
@@ -72,6 +75,7 @@ fn main() -> std::process::ExitCode {
         Command::Render(args) => cli::render::run(args).map(|()| std::process::ExitCode::SUCCESS),
         Command::Register(args) => cli::register::run(args),
         Command::Views(args) => cli::views::run(args).map(|()| std::process::ExitCode::SUCCESS),
+        Command::Oracle(args) => cli::oracle::run(args).map(|()| std::process::ExitCode::SUCCESS),
         Command::Sweep(args) => cli::sweep::run(args),
     };
     match result {

@@ -57,6 +57,11 @@ pub struct ExploreArgs {
     /// No progress bars.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Also compute each object's ground-truth ceiling (`nbv oracle`; about a minute on a
+    /// paper scene) and measure the exploration against it: `oracle.json`, the report's
+    /// `oracle` per object, `coverage_by_view.svg` (the twin only).
+    #[arg(long)]
+    pub oracle: bool,
     /// Which rig runs the pipeline: the twin, or the real drivers (built with `--features
     /// hw`) talking to the devices a rig file names.
     #[arg(long, value_enum, default_value_t = Backend::Sim)]
@@ -105,12 +110,16 @@ impl From<Mode> for ExploreMode {
 /// Runs `nbv explore`.
 pub fn run(args: ExploreArgs) -> Result<()> {
     let scene = nbv_scenes::overrides::load_for_run(&args.scene, &args.set, args.seed)?;
+    if args.oracle && matches!(args.backend, Backend::Hw) {
+        anyhow::bail!("--oracle needs the twin's truth: it runs with --backend sim only");
+    }
     let report = match args.backend {
         Backend::Sim => {
             let mut observer = ProgressObserver::new(args.quiet);
             let extras = nbv_sweep::episode::Extras {
                 pictures: !args.no_pictures,
                 record: args.record,
+                oracle: args.oracle,
             };
             let report = nbv_sweep::episode::run_episode(
                 &scene,
@@ -150,6 +159,7 @@ fn run_hw(scene: &nbv_scenes::Scene, args: &ExploreArgs) -> Result<ExploreReport
         &exploration,
         &args.output,
         !args.no_pictures,
+        None,
     )?)
 }
 

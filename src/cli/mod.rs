@@ -5,6 +5,7 @@ pub mod explore_summary;
 #[cfg(feature = "hw")]
 pub mod hw_backend;
 pub mod map;
+pub mod oracle;
 pub mod progress;
 pub mod register;
 pub mod render;

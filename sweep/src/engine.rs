@@ -170,6 +170,7 @@ impl SweepRun {
                     let extras = crate::episode::Extras {
                         pictures: self.pictures,
                         record: self.record,
+                        oracle: prepared.grid.oracle,
                     };
                     let r = run_one(&prepared.grid, e, &self.output, extras);
                     done();

@@ -8,6 +8,8 @@
 //! OUT/mid_range.ply              the phase-1 sweep cloud
 //! OUT/objects/<name>/model.ply   the registered model; views/view_NN.ply each view
 //! OUT/*.png                      the pictures, when asked ([`crate::pictures`])
+//! OUT/oracle.json                the ground-truth ceiling, when asked ([`crate::oracle`]),
+//! OUT/coverage_by_view.svg       and each object's coverage by view beside it
 //! OUT/episode.rrd                the Rerun recording, when asked (feature `rerun`)
 //! ```
 
@@ -25,6 +27,9 @@ pub struct Extras {
     pub pictures: bool,
     /// The recording for the Rerun viewer, `episode.rrd` (needs the feature `rerun`).
     pub record: bool,
+    /// The ground-truth ceiling ([`crate::oracle`]): `oracle.json`, each object measured
+    /// against it in the report, and `coverage_by_view.svg`.
+    pub oracle: bool,
 }
 
 /// The error of [`Extras::record`] in a build without the feature `rerun`.
@@ -42,10 +47,29 @@ pub fn run_episode(
 ) -> Result<ExploreReport> {
     check_output(out)?;
     if extras.record {
-        return record_episode(scene, mode, out, extras.pictures, observer);
+        return record_episode(scene, mode, out, extras, observer);
     }
     let (config, exploration) = explore_in_twin(scene, mode, observer)?;
-    finish_episode(scene, &config, &exploration, out, extras.pictures)
+    let oracle = oracle_of(scene, extras)?;
+    finish_episode(
+        scene,
+        &config,
+        &exploration,
+        out,
+        extras.pictures,
+        oracle.as_ref(),
+    )
+}
+
+/// The scene's oracle when `extras` asks for it.
+fn oracle_of(
+    scene: &nbv_scenes::Scene,
+    extras: Extras,
+) -> Result<Option<crate::oracle::OracleReport>> {
+    extras
+        .oracle
+        .then(|| crate::oracle::oracle(scene, &crate::oracle::OracleOptions::default()))
+        .transpose()
 }
 
 /// [`run_episode`] with its events recorded into `out/episode.rrd` as well.
@@ -54,12 +78,20 @@ fn record_episode(
     scene: &nbv_scenes::Scene,
     mode: ExploreMode,
     out: &Path,
-    pictures: bool,
+    extras: Extras,
     observer: &mut dyn ExploreObserver,
 ) -> Result<ExploreReport> {
     let mut recorder = crate::recording::EpisodeRecorder::create(out, scene)?;
     let (config, exploration) = explore_in_twin(scene, mode, &mut recorder.observe(observer))?;
-    let report = finish_episode(scene, &config, &exploration, out, pictures)?;
+    let oracle = oracle_of(scene, extras)?;
+    let report = finish_episode(
+        scene,
+        &config,
+        &exploration,
+        out,
+        extras.pictures,
+        oracle.as_ref(),
+    )?;
     recorder.finish(scene, &exploration, &report)?;
     Ok(report)
 }
@@ -69,7 +101,7 @@ fn record_episode(
     _: &nbv_scenes::Scene,
     _: ExploreMode,
     _: &Path,
-    _: bool,
+    _: Extras,
     _: &mut dyn ExploreObserver,
 ) -> Result<ExploreReport> {
     Err(crate::SweepError::Invalid(NO_RECORDING.into()))
@@ -95,16 +127,25 @@ pub fn explore_in_twin(
     Ok((config, exploration))
 }
 
-/// Evaluates an exploration against the scene's truth and writes the report, the models,
-/// the map and (if asked) the pictures into `out`.
+/// Evaluates an exploration against the scene's truth (and against its `oracle`, when
+/// given: `oracle.json` and `coverage_by_view.svg` written beside the report) and writes
+/// the report, the models, the map and (if asked) the pictures into `out`.
 pub fn finish_episode(
     scene: &nbv_scenes::Scene,
     config: &ExploreConfig,
     exploration: &Exploration,
     out: &Path,
     pictures: bool,
+    oracle: Option<&crate::oracle::OracleReport>,
 ) -> Result<ExploreReport> {
-    let report = evaluate(scene, config, exploration)?;
+    let mut report = evaluate(scene, config, exploration)?;
+    if let Some(oracle) = oracle {
+        report.attach_oracle(oracle);
+        check_output(out)?;
+        std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+        crate::layout::write_json(&out.join("oracle.json"), oracle)?;
+        crate::plots::write_episode_coverage(out, &report)?;
+    }
     write_outputs(out, exploration, &report)?;
     if pictures {
         crate::pictures::write(out, scene, exploration, &report);

@@ -13,6 +13,9 @@
 //! "nbv.gain_threshold" = [5.0, 10.0]
 //! ```
 //!
+//! `oracle = true` (top level) measures every episode against its scene's ground-truth
+//! ceiling ([`crate::oracle`]; about a minute per paper scene).
+//!
 //! Order: scenes as listed, then the generated ones by object count, then by seed; for
 //! each, the modes; for each,
 //! the parameter combinations (keys in alphabetical order, the last key varying fastest);
@@ -41,6 +44,8 @@ struct GridFile {
     modes: Vec<String>,
     #[serde(default)]
     params: BTreeMap<String, Vec<toml::Value>>,
+    #[serde(default)]
+    oracle: bool,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -104,6 +109,9 @@ pub struct SweepGrid {
     pub modes: Vec<ExploreMode>,
     /// Swept parameters: dotted key → values, keys sorted.
     pub params: Vec<(String, Vec<toml::Value>)>,
+    /// `oracle = true`: each episode measured against its scene's ground-truth ceiling
+    /// ([`crate::oracle`]).
+    pub oracle: bool,
 }
 
 /// One episode of a sweep.
@@ -194,6 +202,7 @@ impl SweepGrid {
             seeds,
             modes,
             params,
+            oracle: g.oracle,
         })
     }
 

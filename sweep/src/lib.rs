@@ -28,6 +28,7 @@ pub mod layout;
 pub mod map_stats;
 pub mod matching;
 pub mod objectives;
+pub mod oracle;
 pub mod pictures;
 pub mod plots;
 #[cfg(feature = "rerun")]

@@ -2,7 +2,9 @@
 //! coverage over the first two swept parameters, the coverage of each episode against
 //! its views per object, when the sweep spans several error levels the registration
 //! error of each method against the level (Table III's plot), and when it sweeps
-//! `nbv.objective` the mean coverage after each view, one line per objective.
+//! `nbv.objective` the mean coverage after each view, one line per objective; with the
+//! oracle (`oracle = true`), the mean coverage after each view beside the oracle's greedy
+//! curve.
 
 use crate::error::{Result, invalid};
 use crate::results::EpisodeRow;
@@ -12,8 +14,9 @@ use std::path::Path;
 
 /// Writes `heatmap_coverage.svg` (when at least one parameter is swept),
 /// `coverage_vs_views.svg`, `registration_vs_level.svg` (when the registrations span
-/// two error levels or more) and `coverage_by_view_per_objective.svg` (when
-/// `nbv.objective` is swept) into `dir`; returns the files written.
+/// two error levels or more), `coverage_by_view_per_objective.svg` (when
+/// `nbv.objective` is swept) and `coverage_by_view_vs_oracle.svg` (with the oracle) into
+/// `dir`; returns the files written.
 pub fn write(dir: &Path, rows: &[EpisodeRow]) -> Result<Vec<String>> {
     std::fs::create_dir_all(dir)?;
     let mut written = Vec::new();
@@ -48,15 +51,78 @@ pub fn write(dir: &Path, rows: &[EpisodeRow]) -> Result<Vec<String>> {
         save(&dir.join("coverage_by_view_per_objective.svg"), &svg)?;
         written.push("coverage_by_view_per_objective.svg".to_string());
     }
+    let with_oracle: Vec<&EpisodeRow> = rows
+        .iter()
+        .filter(|r| !r.greedy_by_view.is_empty())
+        .collect();
+    if !with_oracle.is_empty() {
+        let explored =
+            crate::results::mean_curve(with_oracle.iter().map(|r| r.coverage_by_view.as_slice()));
+        let greedy =
+            crate::results::mean_curve(with_oracle.iter().map(|r| r.greedy_by_view.as_slice()));
+        let curves = [
+            Curve {
+                label: "explored (mean over the episodes)".into(),
+                values: explored,
+                colour: 0,
+                width: 3,
+            },
+            Curve {
+                label: "oracle: greedy set cover".into(),
+                values: greedy,
+                colour: 1,
+                width: 2,
+            },
+        ];
+        let svg = curves_svg(
+            "coverage after each view, beside the oracle's",
+            "mean object coverage",
+            &curves,
+        )?;
+        save(&dir.join("coverage_by_view_vs_oracle.svg"), &svg)?;
+        written.push("coverage_by_view_vs_oracle.svg".to_string());
+    }
     Ok(written)
 }
 
 /// Mean coverage after k views per object, one line per objective.
 fn coverage_by_view(lines: &[crate::objectives::ObjectiveLine]) -> Result<String> {
-    let mut svg = String::new();
-    let k_max = lines
+    let curves: Vec<Curve> = lines
         .iter()
-        .map(|l| l.coverage_by_view.len())
+        .enumerate()
+        .map(|(i, l)| Curve {
+            label: l.objective.clone(),
+            values: l.coverage_by_view.clone(),
+            colour: i,
+            width: if l.objective == "paper" { 4 } else { 2 },
+        })
+        .collect();
+    curves_svg(
+        "coverage after each view, per objective",
+        "mean object coverage",
+        &curves,
+    )
+}
+
+/// One line of [`curves_svg`]: its values after 0, 1, … views.
+#[derive(Debug, Clone)]
+pub(crate) struct Curve {
+    /// The legend's text.
+    pub label: String,
+    /// The values after 0, 1, … views.
+    pub values: Vec<f64>,
+    /// Index into plotters' 99-colour palette.
+    pub colour: usize,
+    /// Stroke width.
+    pub width: u32,
+}
+
+/// A chart of `curves` against short-range views (0: the laser cluster), values in [0, 1].
+pub(crate) fn curves_svg(title: &str, y_desc: &str, curves: &[Curve]) -> Result<String> {
+    let mut svg = String::new();
+    let k_max = curves
+        .iter()
+        .map(|c| c.values.len())
         .max()
         .unwrap_or(1)
         .saturating_sub(1)
@@ -64,10 +130,7 @@ fn coverage_by_view(lines: &[crate::objectives::ObjectiveLine]) -> Result<String
     let root = SVGBackend::with_string(&mut svg, (800, 600)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| invalid!("{e}"))?;
     let mut chart = ChartBuilder::on(&root)
-        .caption(
-            "coverage after each view, per objective",
-            ("sans-serif", 20),
-        )
+        .caption(title, ("sans-serif", 20))
         .margin(20)
         .x_label_area_size(50)
         .y_label_area_size(60)
@@ -76,28 +139,63 @@ fn coverage_by_view(lines: &[crate::objectives::ObjectiveLine]) -> Result<String
     chart
         .configure_mesh()
         .x_desc("short-range views per object (0: the laser cluster)")
-        .y_desc("mean object coverage")
+        .y_desc(y_desc)
         .draw()
         .map_err(|e| invalid!("{e}"))?;
-    for (i, l) in lines.iter().enumerate() {
-        let colour = Palette99::pick(i).to_rgba();
-        let points: Vec<(f64, f64)> = l
-            .coverage_by_view
+    for c in curves {
+        let colour = Palette99::pick(c.colour).to_rgba();
+        let points: Vec<(f64, f64)> = c
+            .values
             .iter()
             .enumerate()
-            .map(|(k, c)| (k as f64, *c))
+            .map(|(k, v)| (k as f64, *v))
             .collect();
-        let width = if l.objective == "paper" { 4 } else { 2 };
         chart
-            .draw_series(LineSeries::new(points, colour.stroke_width(width)))
+            .draw_series(LineSeries::new(points, colour.stroke_width(c.width)))
             .map_err(|e| invalid!("{e}"))?
-            .label(l.objective.clone())
+            .label(c.label.clone())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour));
     }
     legend_and_present(&mut chart, &root, SeriesLabelPosition::LowerRight)?;
     drop(chart);
     drop(root);
     Ok(svg)
+}
+
+/// `coverage_by_view.svg` of an episode: each matched object's coverage after each view
+/// (thick) beside the oracle's greedy curve (thin, same colour), when the report carries
+/// the oracle.
+pub fn write_episode_coverage(dir: &Path, report: &crate::report::ExploreReport) -> Result<bool> {
+    let mut curves = Vec::new();
+    for (i, o) in report.objects.iter().enumerate() {
+        let Some(oracle) = &o.oracle else { continue };
+        curves.push(Curve {
+            label: format!("{}: explored", o.name),
+            values: o.coverage_by_view.clone(),
+            colour: i,
+            width: 3,
+        });
+        curves.push(Curve {
+            label: format!(
+                "{}: oracle (greedy), ceiling {:.1} %",
+                o.name,
+                100.0 * oracle.ceiling
+            ),
+            values: oracle.greedy.clone(),
+            colour: i,
+            width: 1,
+        });
+    }
+    if curves.is_empty() {
+        return Ok(false);
+    }
+    let svg = curves_svg(
+        "coverage after each view, beside the oracle's",
+        "coverage",
+        &curves,
+    )?;
+    save(&dir.join("coverage_by_view.svg"), &svg)?;
+    Ok(true)
 }
 
 /// Draws the legend of a line chart at `position` and finishes the picture.

@@ -20,7 +20,10 @@ pub const COVERAGE_TOLERANCE: f64 = 0.01;
 /// Tanks and Temples benchmark uses 3–10 mm for objects and rooms of this size.
 pub const QUALITY_TOLERANCE: f64 = COVERAGE_TOLERANCE;
 /// Surface samples per object for the coverage.
-const COVERAGE_SAMPLES: usize = 20_000;
+pub const COVERAGE_SAMPLES: usize = 20_000;
+/// A short-range view adds nothing when it raises its object's coverage by less than this
+/// (0.5 point): [`ObjectEntry::wasted_views`].
+pub const WASTED_VIEW_GAIN: f64 = 0.005;
 /// Mean alignment error (m) above which a registration counts as failed.
 pub const FAILED_REGISTRATION_ERROR: f64 = 0.01;
 
@@ -158,6 +161,14 @@ pub struct ObjectEntry {
     /// the first k non-empty views, merged through the final registration's poses (as
     /// `coverage`, whose value the last entry is); empty for an unmatched cluster.
     pub coverage_by_view: Vec<f64>,
+    /// Short-range views that raised `coverage_by_view` by less than [`WASTED_VIEW_GAIN`].
+    pub wasted_views: usize,
+    /// Views taken after the coverage last rose by [`WASTED_VIEW_GAIN`] or more (every view
+    /// when none did).
+    pub views_after_last_rise: usize,
+    /// The exploration against the oracle's ceiling (`nbv explore --oracle`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub oracle: Option<OracleEntry>,
     /// Joint-space length (rad) of the planned paths to the views taken (after
     /// shortcutting; retreats not counted).
     pub joint_distance: f64,
@@ -332,8 +343,94 @@ pub struct Totals {
     pub failed_gpa: usize,
     /// Failed sequential ICP registrations.
     pub failed_icp: usize,
+    /// Short-range views that added less than [`WASTED_VIEW_GAIN`] of coverage, over the
+    /// objects.
+    pub wasted_views: usize,
+    /// Smallest `coverage / ceiling` over the objects (with the oracle).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_coverage_of_ceiling: Option<f64>,
+    /// Mean `coverage / ceiling` over the objects (with the oracle).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mean_coverage_of_ceiling: Option<f64>,
     /// Times summed over phase 1 and the objects.
     pub times: Times,
+}
+
+/// An object's exploration against its ground-truth ceiling ([`crate::oracle`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct OracleEntry {
+    /// The share of the surface the laser and every reachable view see together.
+    pub ceiling: f64,
+    /// `coverage / ceiling`.
+    pub coverage_of_ceiling: f64,
+    /// Short-range views the exploration took to reach [`CEILING_SHARE`] of the ceiling
+    /// (by `coverage_by_view`); `None` when it never did.
+    ///
+    /// [`CEILING_SHARE`]: crate::oracle::CEILING_SHARE
+    pub views_to_95: Option<usize>,
+    /// The greedy set cover's views to the same coverage.
+    pub oracle_views_to_95: usize,
+    /// The greedy set cover's coverage after 0, 1, … views.
+    pub greedy: Vec<f64>,
+}
+
+impl ExploreReport {
+    /// Measures each matched object against its entry of `oracle` (same scene and seed):
+    /// fills [`ObjectEntry::oracle`] and the totals' shares of the ceiling.
+    pub fn attach_oracle(&mut self, oracle: &crate::oracle::OracleReport) {
+        for entry in &mut self.objects {
+            let (Some(o), Some(coverage)) = (
+                oracle.objects.iter().find(|o| o.name == entry.name),
+                entry.coverage,
+            ) else {
+                continue;
+            };
+            let target = crate::oracle::CEILING_SHARE * o.ceiling;
+            entry.oracle = Some(OracleEntry {
+                ceiling: o.ceiling,
+                coverage_of_ceiling: if o.ceiling > 0.0 {
+                    coverage / o.ceiling
+                } else {
+                    1.0
+                },
+                views_to_95: entry
+                    .coverage_by_view
+                    .iter()
+                    .position(|&c| c >= target - 1e-12),
+                oracle_views_to_95: o.views_to_95,
+                greedy: o.greedy.clone(),
+            });
+        }
+        let shares: Vec<f64> = self
+            .objects
+            .iter()
+            .filter_map(|o| o.oracle.as_ref().map(|e| e.coverage_of_ceiling))
+            .collect();
+        self.totals.min_coverage_of_ceiling = shares.iter().copied().reduce(f64::min);
+        self.totals.mean_coverage_of_ceiling =
+            (!shares.is_empty()).then(|| shares.iter().sum::<f64>() / shares.len() as f64);
+    }
+}
+
+/// `(wasted, after_last_rise)` of a coverage-by-view curve (entry 0 before the first
+/// view): the views that raised it by less than [`WASTED_VIEW_GAIN`], and the views after
+/// the last one that raised it by at least that.
+///
+/// ```
+/// use nbv_sweep::report::view_gains;
+/// assert_eq!(view_gains(&[0.5, 0.7, 0.702, 0.8, 0.801, 0.802]), (3, 2));
+/// assert_eq!(view_gains(&[0.5]), (0, 0));
+/// assert_eq!(view_gains(&[0.5, 0.5]), (1, 1));
+/// ```
+pub fn view_gains(curve: &[f64]) -> (usize, usize) {
+    let views = curve.len().saturating_sub(1);
+    let rises: Vec<bool> = curve
+        .windows(2)
+        .map(|w| w[1] - w[0] >= WASTED_VIEW_GAIN - 1e-12)
+        .collect();
+    let wasted = rises.iter().filter(|&&r| !r).count();
+    let last = rises.iter().rposition(|&r| r).map_or(0, |k| k + 1);
+    (wasted, views - last)
 }
 
 /// The share of an object's true surface (`mesh`, above the table) that `model` covers
@@ -456,6 +553,7 @@ pub fn evaluate(
             }
             None => Vec::new(),
         };
+        let (wasted_views, views_after_last_rise) = view_gains(&coverage_by_view);
         objects.push(ObjectEntry {
             name,
             cluster: object.index,
@@ -475,6 +573,9 @@ pub fn evaluate(
             coverage_unregistered: coverage_of(&unregistered),
             coverage_icp: object.icp_model().and_then(|m| coverage_of(&m)),
             coverage_by_view,
+            wasted_views,
+            views_after_last_rise,
+            oracle: None,
             joint_distance: object
                 .views
                 .iter()
@@ -533,6 +634,9 @@ pub fn evaluate(
             .iter()
             .filter(|o| o.error_icp.as_ref().is_some_and(|e| e.failed))
             .count(),
+        wasted_views: objects.iter().map(|o| o.wasted_views).sum(),
+        min_coverage_of_ceiling: None,
+        mean_coverage_of_ceiling: None,
         times: Times::from(&total_times),
     };
     let p = &exploration.phase_one;

@@ -97,6 +97,38 @@ pub struct EpisodeRow {
     /// Next-best-view scoring time per view (s; 0 in older rows).
     #[serde(default)]
     pub nbv_time_per_view: f64,
+    /// Views that raised their object's coverage by less than 0.5 point, all objects.
+    #[serde(default)]
+    pub wasted_views: usize,
+    /// The most views an object took after its coverage last rose by 0.5 point.
+    #[serde(default)]
+    pub views_after_rise_max: usize,
+    /// Mean ground-truth ceiling of the matched objects (0 without the oracle).
+    #[serde(default)]
+    pub ceiling: f64,
+    /// Smallest coverage / ceiling over the matched objects (0 without the oracle).
+    #[serde(default)]
+    pub coverage_of_ceiling: f64,
+    /// Mean coverage / ceiling (0 without the oracle).
+    #[serde(default)]
+    pub coverage_of_ceiling_mean: f64,
+    /// Objects that never reached 95 % of their ceiling (0 without the oracle).
+    #[serde(default)]
+    pub below_95: usize,
+    /// Mean views the objects that reached 95 % of their ceiling took to it.
+    #[serde(default)]
+    pub views_to_95: f64,
+    /// Mean greedy views to 95 % of the ceiling (the oracle's).
+    #[serde(default)]
+    pub oracle_views_to_95: f64,
+    /// Largest ratio, over the objects that reached 95 % of their ceiling, of their views
+    /// to it and the oracle's (at least one view counted for the oracle).
+    #[serde(default)]
+    pub views_to_95_ratio_max: f64,
+    /// Mean greedy curve of the matched objects after 0, 1, … views (empty without the
+    /// oracle).
+    #[serde(default)]
+    pub greedy_by_view: Vec<f64>,
     /// Wall time of the episode (s); the only column that differs between identical runs.
     pub time_s: f64,
 }
@@ -261,6 +293,38 @@ impl EpisodeRow {
             } else {
                 0.0
             },
+            wasted_views: report.totals.wasted_views,
+            views_after_rise_max: objects
+                .iter()
+                .map(|o| o.views_after_last_rise)
+                .max()
+                .unwrap_or(0),
+            ceiling: mean(&quality(&|o| o.oracle.as_ref().map(|e| e.ceiling))),
+            coverage_of_ceiling: report.totals.min_coverage_of_ceiling.unwrap_or(0.0),
+            coverage_of_ceiling_mean: report.totals.mean_coverage_of_ceiling.unwrap_or(0.0),
+            below_95: objects
+                .iter()
+                .filter(|o| o.oracle.as_ref().is_some_and(|e| e.views_to_95.is_none()))
+                .count(),
+            views_to_95: mean(&quality(&|o| {
+                o.oracle
+                    .as_ref()
+                    .and_then(|e| e.views_to_95.map(|v| v as f64))
+            })),
+            oracle_views_to_95: mean(&quality(&|o| {
+                o.oracle.as_ref().map(|e| e.oracle_views_to_95 as f64)
+            })),
+            views_to_95_ratio_max: quality(&|o| {
+                let e = o.oracle.as_ref()?;
+                Some(e.views_to_95? as f64 / e.oracle_views_to_95.max(1) as f64)
+            })
+            .into_iter()
+            .fold(0.0, f64::max),
+            greedy_by_view: mean_curve(
+                objects
+                    .iter()
+                    .filter_map(|o| o.oracle.as_ref().map(|e| e.greedy.as_slice())),
+            ),
             time_s,
         }
     }
@@ -293,7 +357,7 @@ pub fn mean_curve<'a>(curves: impl IntoIterator<Item = &'a [f64]>) -> Vec<f64> {
 }
 
 /// The CSV columns after the parameters (`time_s` last).
-const METRICS: [&str; 26] = [
+const METRICS: [&str; 35] = [
     "objects",
     "missed",
     "split",
@@ -319,6 +383,15 @@ const METRICS: [&str; 26] = [
     "failed_icp",
     "joint_distance",
     "nbv_time_per_view",
+    "wasted_views",
+    "views_after_rise_max",
+    "ceiling",
+    "coverage_of_ceiling",
+    "coverage_of_ceiling_mean",
+    "below_95",
+    "views_to_95",
+    "oracle_views_to_95",
+    "views_to_95_ratio_max",
     "time_s",
 ];
 
@@ -368,6 +441,15 @@ pub fn csv_text(rows: &[EpisodeRow]) -> Result<String> {
             r.failed_icp.to_string(),
             format!("{:.6}", r.joint_distance),
             format!("{:.6}", r.nbv_time_per_view),
+            r.wasted_views.to_string(),
+            r.views_after_rise_max.to_string(),
+            format!("{:.6}", r.ceiling),
+            format!("{:.6}", r.coverage_of_ceiling),
+            format!("{:.6}", r.coverage_of_ceiling_mean),
+            r.below_95.to_string(),
+            format!("{:.6}", r.views_to_95),
+            format!("{:.6}", r.oracle_views_to_95),
+            format!("{:.6}", r.views_to_95_ratio_max),
             format!("{:.3}", r.time_s),
         ]);
         w.write_record(&rec)?;
@@ -411,6 +493,20 @@ pub struct Aggregate {
     pub phantoms: usize,
     /// Episodes per hour at the measured episode times (one job).
     pub episodes_per_hour: f64,
+    /// Mean short-range views per object.
+    pub views_per_object: f64,
+    /// Views that added less than 0.5 point of coverage, all episodes.
+    pub wasted_views: usize,
+    /// The most views an object took after its coverage last rose by 0.5 point.
+    pub views_after_rise: usize,
+    /// Smallest coverage / ceiling of an object (with the oracle; 0 without).
+    pub coverage_of_ceiling: f64,
+    /// Mean of the per-episode mean coverage / ceiling.
+    pub coverage_of_ceiling_mean: f64,
+    /// Objects that never reached 95 % of their ceiling, all episodes.
+    pub below_95: usize,
+    /// Largest ratio of an object's views to 95 % of its ceiling to the oracle's.
+    pub views_to_95_ratio: f64,
 }
 
 impl Aggregate {
@@ -455,6 +551,33 @@ impl Aggregate {
             } else {
                 0.0
             },
+            views_per_object: {
+                let objects: usize = rows.iter().map(|r| r.objects).sum();
+                let views: usize = rows.iter().map(|r| r.views).sum();
+                views as f64 / objects.max(1) as f64
+            },
+            wasted_views: rows.iter().map(|r| r.wasted_views).sum(),
+            views_after_rise: rows
+                .iter()
+                .map(|r| r.views_after_rise_max)
+                .max()
+                .unwrap_or(0),
+            coverage_of_ceiling: rows
+                .iter()
+                .map(|r| r.coverage_of_ceiling)
+                .reduce(f64::min)
+                .unwrap_or(0.0),
+            coverage_of_ceiling_mean: mean(
+                &rows
+                    .iter()
+                    .map(|r| r.coverage_of_ceiling_mean)
+                    .collect::<Vec<_>>(),
+            ),
+            below_95: rows.iter().map(|r| r.below_95).sum(),
+            views_to_95_ratio: rows
+                .iter()
+                .map(|r| r.views_to_95_ratio_max)
+                .fold(0.0, f64::max),
         }
     }
 
@@ -475,12 +598,19 @@ impl Aggregate {
             "missed" => self.missed as f64,
             "split" => self.split as f64,
             "phantoms" => self.phantoms as f64,
+            "views_per_object" => self.views_per_object,
+            "wasted_views" => self.wasted_views as f64,
+            "views_after_rise" => self.views_after_rise as f64,
+            "coverage_of_ceiling" => self.coverage_of_ceiling,
+            "coverage_of_ceiling_mean" => self.coverage_of_ceiling_mean,
+            "below_95" => self.below_95 as f64,
+            "views_to_95_ratio" => self.views_to_95_ratio,
             _ => return None,
         })
     }
 
     /// The names [`metric`](Self::metric) knows.
-    pub const METRICS: [&'static str; 14] = [
+    pub const METRICS: [&'static str; 21] = [
         "f_score",
         "f_score_mean",
         "f_score_unregistered_mean",
@@ -495,6 +625,13 @@ impl Aggregate {
         "missed",
         "split",
         "phantoms",
+        "views_per_object",
+        "wasted_views",
+        "views_after_rise",
+        "coverage_of_ceiling",
+        "coverage_of_ceiling_mean",
+        "below_95",
+        "views_to_95_ratio",
     ];
 }
 
@@ -747,6 +884,16 @@ pub(crate) mod tests {
             coverage_by_view: vec![0.4, (0.4 + coverage) / 2.0, coverage],
             joint_distance: 3.0,
             nbv_time_per_view: 0.02,
+            wasted_views: 1,
+            views_after_rise_max: 1,
+            ceiling: 0.95,
+            coverage_of_ceiling: coverage / 0.95,
+            coverage_of_ceiling_mean: coverage / 0.95,
+            below_95: 0,
+            views_to_95: 2.0,
+            oracle_views_to_95: 1.0,
+            views_to_95_ratio_max: 2.0,
+            greedy_by_view: vec![0.4, 0.9, 0.95],
             time_s: 10.0,
         }
     }

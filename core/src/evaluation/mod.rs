@@ -16,4 +16,6 @@ pub use alignment_error::alignment_error;
 pub use model_precision::model_precision;
 pub use model_quality::{ModelQuality, f_score, model_quality, quality_samples};
 pub use point_error::{PointError, point_error};
-pub use surface_coverage::{Coverage, sample_surface, surface_coverage, surface_coverage_curve};
+pub use surface_coverage::{
+    Coverage, sample_surface, sample_surface_with_normals, surface_coverage, surface_coverage_curve,
+};

@@ -5,7 +5,7 @@
 
 use crate::cloud::{PointCloud, near_mask};
 use crate::mesh::TriMesh;
-use nalgebra::Point3;
+use nalgebra::{Point3, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -42,6 +42,31 @@ impl Coverage {
 /// assert!(pts.iter().all(|p| p.iter().any(|c| (c.abs() - 0.5).abs() < 1e-12)));
 /// ```
 pub fn sample_surface(mesh: &TriMesh, n: usize, seed: u64) -> Vec<Point3<f64>> {
+    sample_surface_with_normals(mesh, n, seed)
+        .into_iter()
+        .map(|(p, _)| p)
+        .collect()
+}
+
+/// [`sample_surface`]'s points (the same ones, from the same draws) with the unit normal
+/// of the triangle each lies on (outward for an outward-oriented mesh; zero for a
+/// degenerate triangle).
+///
+/// ```
+/// use nbv_core::evaluation::{sample_surface, sample_surface_with_normals};
+/// use nbv_core::mesh::TriMesh;
+/// let cube = TriMesh::cuboid([0.5, 0.5, 0.5]);
+/// let with = sample_surface_with_normals(&cube, 200, 4);
+/// let points: Vec<_> = with.iter().map(|(p, _)| *p).collect();
+/// assert_eq!(points, sample_surface(&cube, 200, 4));
+/// // On a face of the unit cube the normal is that face's axis, pointing out.
+/// assert!(with.iter().all(|(p, n)| (p.coords.dot(n) - 0.5).abs() < 1e-12));
+/// ```
+pub fn sample_surface_with_normals(
+    mesh: &TriMesh,
+    n: usize,
+    seed: u64,
+) -> Vec<(Point3<f64>, Vector3<f64>)> {
     let mut cumulative = Vec::with_capacity(mesh.triangles.len());
     let mut total = 0.0;
     for i in 0..mesh.triangles.len() {
@@ -64,7 +89,7 @@ pub fn sample_surface(mesh: &TriMesh, n: usize, seed: u64) -> Vec<Point3<f64>> {
             if u + v > 1.0 {
                 (u, v) = (1.0 - u, 1.0 - v);
             }
-            a + (b - a) * u + (c - a) * v
+            (a + (b - a) * u + (c - a) * v, mesh.triangle_normal(i))
         })
         .collect()
 }

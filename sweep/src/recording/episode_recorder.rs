@@ -42,7 +42,7 @@ const FRUSTUM_DEPTH: f32 = 0.12;
 ///     nbv_core::pipeline::ExploreMode::Hybrid,
 ///     &mut recorder.observe(&mut progress),
 /// )?;
-/// let report = nbv_sweep::episode::finish_episode(scene, &config, &exploration, out, false)?;
+/// let report = nbv_sweep::episode::finish_episode(scene, &config, &exploration, out, false, None)?;
 /// let file = recorder.finish(scene, &exploration, &report)?;
 /// assert!(file.ends_with("episode.rrd"));
 /// # Ok(()) }

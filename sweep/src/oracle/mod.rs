@@ -1,0 +1,388 @@
+//! The ground-truth ceiling of each object's exploration (`nbv oracle`): what the arm could
+//! see of an object at best, and how few views get there.
+//!
+//! Candidate camera poses: Algorithm 2's (the scene's `[nbv]` sphere, rolls and steps,
+//! around the object's true centre at mid height) and a dense set ([`DensePoses`]: several
+//! radii within the camera's range, fine steps, rolls), each kept only if an inverse
+//! kinematics solution within the joint limits puts the camera there without any contact
+//! in the true world (objects, obstacles, table, the arm itself). From each kept pose the
+//! Dinast is cast at the true scene, occluders included, without noise and without
+//! dropouts (same range limits, field of view and grazing cut-off: a pixel counts when the
+//! camera model's dropout probability there is below one), and its points are scored by the
+//! report's own coverage ([`crate::report::coverage`]: the same 20,000 seeded surface
+//! samples above the table, the same 1 cm). The laser sweep of phase 1, cast likewise, is
+//! the base every view adds to (the report's coverage after 0 views is the laser
+//! cluster's).
+//!
+//! The **ceiling** is the union over all poses; the **greedy** set cover ([`CoverSets`])
+//! gives the best-known coverage after 1, 2, … views; the samples no pose sees are told
+//! apart by cause ([`UnseenCauses`]).
+
+mod candidate_poses;
+mod set_cover;
+mod unseen;
+
+pub use candidate_poses::{DensePose, DensePoses};
+pub use set_cover::{CoverSets, GreedyCover};
+pub use unseen::{TABLE_BAND, UnseenCause, UnseenCauses, unseen_cause};
+
+use crate::error::{Context, Result, SweepError};
+use crate::report::{COVERAGE_SAMPLES, COVERAGE_TOLERANCE};
+use nalgebra::Point3;
+use nbv_core::cloud::near_mask;
+use nbv_core::evaluation::sample_surface_with_normals;
+use nbv_core::kinematics::{Joints, Robot};
+use nbv_core::math::{Pose, pose_to_xyz_rpy};
+use nbv_core::nbv::{NextBestView, VisitedViews};
+use nbv_core::pipeline::ExploreMode;
+use nbv_core::rig::{TruthLabel, acquire_sweep};
+use nbv_scenes::Scene;
+use nbv_sim::rig::SimRig;
+use nbv_sim::sensors::CameraModel;
+use nbv_sim::world::TwinWorld;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// Share of the ceiling an exploration is held to ([`OracleObject::views_to_95`]).
+pub const CEILING_SHARE: f64 = 0.95;
+
+/// Casts scored together (their points held at once, their coverage in parallel).
+const BATCH: usize = 16;
+
+/// What [`oracle`] computes.
+#[derive(Debug, Clone, Default)]
+pub struct OracleOptions {
+    /// Only this object (its name in the scene); every object when `None`.
+    pub object: Option<String>,
+    /// The dense pose set.
+    pub dense: DensePoses,
+}
+
+/// The oracle of a scene: `oracle.json`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct OracleReport {
+    /// The scene's name.
+    pub scene: String,
+    /// The scene's seed (the laser sweep's pose errors and the surface samples).
+    pub seed: u64,
+    /// The dense pose set's parameters.
+    pub dense: serde_json::Value,
+    /// One entry per object, in the scene's order.
+    pub objects: Vec<OracleObject>,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+}
+
+/// Candidate poses, evaluated and kept.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PoseCounts {
+    /// Poses evaluated: Algorithm 2's samples × rolls and the dense set.
+    pub evaluated: usize,
+    /// Of them, reachable without contact (and so cast).
+    pub reachable: usize,
+    /// Algorithm 2's samples (one per sphere sample, any roll).
+    pub algorithm2: usize,
+    /// Of them, reachable without contact at some roll.
+    pub algorithm2_reachable: usize,
+}
+
+/// The oracle of one object.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct OracleObject {
+    /// The object's name in the scene.
+    pub name: String,
+    /// Surface samples above the table (the report's).
+    pub samples: usize,
+    /// Share of the samples the laser sweep and every reachable view see together: no
+    /// exploration's coverage can exceed it.
+    pub ceiling: f64,
+    /// Share the laser sweep sees (the greedy curve's start).
+    pub laser: f64,
+    /// Share the laser and Algorithm 2's reachable candidates see together (the scene's one
+    /// viewing sphere; below `ceiling` where it does not fit the object).
+    pub algorithm2_ceiling: f64,
+    /// Coverage after 0, 1, 2, … greedy views (`greedy[0]` = `laser`; the last =
+    /// `ceiling`).
+    pub greedy: Vec<f64>,
+    /// The greedy views' camera poses: x, y, z (m), roll, pitch, yaw (degrees).
+    pub greedy_views: Vec<[f64; 6]>,
+    /// Greedy views to reach [`CEILING_SHARE`] of the ceiling.
+    pub views_to_95: usize,
+    /// Poses evaluated and kept.
+    pub poses: PoseCounts,
+    /// The unseen rest by cause (shares of the samples).
+    pub unseen: UnseenCauses,
+}
+
+impl OracleObject {
+    /// The greedy views to reach `share` of the ceiling (0 if the laser alone does).
+    pub fn views_to(&self, share: f64) -> usize {
+        views_to(&self.greedy, share * self.ceiling)
+    }
+}
+
+/// The first index `k` with `curve[k] >= target` (up to rounding), or the last index.
+pub fn views_to(curve: &[f64], target: f64) -> usize {
+    curve
+        .iter()
+        .position(|&c| c >= target - 1e-12)
+        .unwrap_or(curve.len().saturating_sub(1))
+}
+
+/// The oracle of `scene` (its seed; the twin's truth). Needs the robot base at the world
+/// origin, as the pipeline does.
+pub fn oracle(scene: &Scene, options: &OracleOptions) -> Result<OracleReport> {
+    let start = std::time::Instant::now();
+    options
+        .dense
+        .validate()
+        .map_err(|e| SweepError::Invalid(format!("the oracle's dense pose set: {e}")))?;
+    if let Some(name) = &options.object
+        && !scene.objects.iter().any(|o| &o.name == name)
+    {
+        let names: Vec<_> = scene.objects.iter().map(|o| o.name.as_str()).collect();
+        return Err(SweepError::Invalid(format!(
+            "{}: no object named `{name}` (objects: {})",
+            scene.name,
+            names.join(", ")
+        )));
+    }
+    let config = scene.explore_config(ExploreMode::Hybrid)?;
+    let meshes = scene.object_meshes()?;
+    let laser = laser_points(scene, &config)?;
+    let mut world = TwinWorld::from_scene(scene).context("building the twin world")?;
+    let base = *world.base();
+    if base.translation.vector.norm() > 1e-12 || base.rotation.angle() > 1e-12 {
+        return Err(SweepError::Invalid(format!(
+            "{}: the oracle needs the robot base at the world origin, as the pipeline does",
+            scene.name
+        )));
+    }
+    let camera = CameraModel::from_scene(&scene.sensors.short_range);
+    let robot = world.robot().clone();
+    let camera_frame = robot.frame_index(&camera.spec.frame).ok_or_else(|| {
+        SweepError::Invalid(format!(
+            "{}: the camera frame `{}` is not a link of the robot",
+            scene.name, camera.spec.frame
+        ))
+    })?;
+    let nbv = NextBestView::new(config.nbv, &camera.spec)?;
+    let home = world.configuration();
+    let table_top = scene.table.top();
+    let mut objects = Vec::new();
+    for (i, (object, mesh)) in scene.objects.iter().zip(&meshes).enumerate() {
+        if options.object.as_ref().is_some_and(|n| n != &object.name) {
+            continue;
+        }
+        let samples: Vec<_> = sample_surface_with_normals(mesh, COVERAGE_SAMPLES, scene.seed)
+            .into_iter()
+            .filter(|(p, _)| p.z > table_top + 0.005)
+            .collect();
+        let points: Vec<Point3<f64>> = samples.iter().map(|(p, _)| *p).collect();
+        let Some(bounds) = Bounds::of(&points, COVERAGE_TOLERANCE) else {
+            continue;
+        };
+        let centre = bounds.centre(&points, table_top);
+        let base_mask = near_mask(&bounds.keep(&laser), &points, COVERAGE_TOLERANCE);
+        let base_covered: Vec<usize> = (0..points.len()).filter(|&k| base_mask[k]).collect();
+        let mut sets = CoverSets::new(points.len(), &base_covered);
+
+        // Algorithm 2's candidates, then the dense set: each with its first usable solution.
+        let mut counts = PoseCounts::default();
+        let set = nbv.viewpoints(&robot, &centre, &VisitedViews::default())?;
+        counts.algorithm2 = set.samples;
+        let mut goals: Vec<(Pose, Joints)> = Vec::new();
+        for v in &set.viewpoints {
+            counts.evaluated += 1;
+            if let Some(q) = first_free(&mut world, v.solutions.iter().map(|s| s.joints)) {
+                goals.push((v.pose, q));
+            }
+        }
+        // Rolls without a solution count as evaluated too.
+        counts.evaluated += set.unreachable * nbv.params.roll_candidates;
+        counts.algorithm2_reachable = goals.len();
+        let algorithm2 = goals.len();
+        let dense = options
+            .dense
+            .poses(&centre)
+            .map_err(|e| SweepError::Invalid(format!("the oracle's dense pose set: {e}")))?;
+        counts.evaluated += dense.len();
+        let solutions: Vec<Vec<Joints>> = dense
+            .par_iter()
+            .map(|d| {
+                [d.pose, d.turned]
+                    .iter()
+                    .flat_map(|p| ik_joints(&robot, &camera.spec.frame, p))
+                    .collect()
+            })
+            .collect();
+        for (d, qs) in dense.iter().zip(solutions) {
+            if let Some(q) = first_free(&mut world, qs.into_iter()) {
+                goals.push((d.pose, q));
+            }
+        }
+        counts.reachable = goals.len();
+
+        // Cast and score, a batch at a time.
+        for batch in goals.chunks(BATCH) {
+            let clouds: Vec<Vec<Point3<f64>>> = batch
+                .iter()
+                .map(|(pose, q)| {
+                    world.set_configuration(*q);
+                    let frame = camera.cast(&world, pose, Some(camera_frame));
+                    let [min, max] = camera.spec.range;
+                    let hits: Vec<Point3<f64>> = frame
+                        .pixels
+                        .iter()
+                        .flatten()
+                        .filter(|p| p.dropout < 1.0 && p.distance >= min && p.distance <= max)
+                        .map(|p| p.truth.point)
+                        .collect();
+                    bounds.keep(&hits)
+                })
+                .collect();
+            let masks: Vec<Vec<bool>> = clouds
+                .par_iter()
+                .map(|c| near_mask(c, &points, COVERAGE_TOLERANCE))
+                .collect();
+            for m in &masks {
+                sets.push_mask(m);
+            }
+        }
+        world.set_configuration(home);
+
+        let n = points.len() as f64;
+        let greedy = sets.greedy();
+        let alg2 = sets.count_with(0..algorithm2) as f64 / n;
+        let ceiling = sets.union_count() as f64 / n;
+        let causes: Vec<UnseenCause> = sets
+            .uncovered()
+            .into_iter()
+            .map(|k| {
+                let (p, normal) = &samples[k];
+                unseen_cause(&world, i as u32, p, normal, table_top)
+            })
+            .collect();
+        let curve: Vec<f64> = greedy.covered.iter().map(|&c| c as f64 / n).collect();
+        objects.push(OracleObject {
+            name: object.name.clone(),
+            samples: points.len(),
+            ceiling,
+            laser: sets.base_count() as f64 / n,
+            algorithm2_ceiling: alg2,
+            views_to_95: views_to(&curve, CEILING_SHARE * ceiling),
+            greedy: curve,
+            greedy_views: greedy
+                .picks
+                .iter()
+                .map(|&k| {
+                    let (xyz, rpy) = pose_to_xyz_rpy(&goals[k].0);
+                    [
+                        xyz[0],
+                        xyz[1],
+                        xyz[2],
+                        rpy[0].to_degrees(),
+                        rpy[1].to_degrees(),
+                        rpy[2].to_degrees(),
+                    ]
+                })
+                .collect(),
+            poses: counts,
+            unseen: UnseenCauses::of(&causes, points.len()),
+        });
+    }
+    Ok(OracleReport {
+        scene: scene.name.clone(),
+        seed: scene.seed,
+        dense: serde_json::to_value(&options.dense)?,
+        objects,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// The noise-free points of phase 1's laser sweep (every return, on whatever it hit),
+/// the sweep run in the twin as the pipeline runs it.
+fn laser_points(
+    scene: &Scene,
+    config: &nbv_core::pipeline::ExploreConfig,
+) -> Result<Vec<Point3<f64>>> {
+    let mut sim = SimRig::from_scene(scene).context("building the twin")?;
+    let rig = sim.rig();
+    let sweep = acquire_sweep(rig.arm, rig.scanner, &config.sweep, config.sweep_speed)
+        .context("the laser sweep")?;
+    Ok(sweep
+        .lines
+        .iter()
+        .flat_map(|line| {
+            let truth = line.truth.as_deref().unwrap_or(&[]);
+            line.ranges
+                .iter()
+                .zip(truth)
+                .filter(|(r, _)| r.is_finite())
+                .filter_map(|(_, t)| t.as_ref())
+                .filter(|t| t.label != TruthLabel::Robot)
+                .map(|t| t.point)
+                .collect::<Vec<_>>()
+        })
+        .collect())
+}
+
+/// The IK solutions (within the joint limits) that put the camera at `pose`.
+fn ik_joints(robot: &Robot, frame: &str, pose: &Pose) -> Vec<Joints> {
+    robot
+        .ik(frame, pose)
+        .map(|s| s.into_iter().map(|s| s.joints).collect())
+        .unwrap_or_default()
+}
+
+/// The first of `solutions` at which the arm touches nothing in the true world.
+fn first_free(world: &mut TwinWorld, solutions: impl Iterator<Item = Joints>) -> Option<Joints> {
+    for q in solutions {
+        if world.contacts_at(q).is_empty() {
+            return Some(q);
+        }
+    }
+    None
+}
+
+/// The box around an object's samples, grown by the tolerance: points outside cannot
+/// cover a sample.
+struct Bounds {
+    lo: Point3<f64>,
+    hi: Point3<f64>,
+}
+
+impl Bounds {
+    fn of(points: &[Point3<f64>], grow: f64) -> Option<Self> {
+        let first = points.first()?;
+        let (mut lo, mut hi) = (*first, *first);
+        for p in points {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        let g = nalgebra::Vector3::repeat(grow);
+        Some(Self {
+            lo: lo - g,
+            hi: hi + g,
+        })
+    }
+
+    fn keep(&self, points: &[Point3<f64>]) -> Vec<Point3<f64>> {
+        points
+            .iter()
+            .filter(|p| (0..3).all(|k| p[k] >= self.lo[k] && p[k] <= self.hi[k]))
+            .copied()
+            .collect()
+    }
+
+    /// Where Algorithm 2 would centre its sphere on the whole object: the samples'
+    /// centroid across, the object's middle height above the table.
+    fn centre(&self, points: &[Point3<f64>], table_top: f64) -> Point3<f64> {
+        let n = points.len().max(1) as f64;
+        let c = points
+            .iter()
+            .fold(nalgebra::Vector3::zeros(), |a, p| a + p.coords)
+            / n;
+        Point3::new(c.x, c.y, 0.5 * (table_top + self.hi.z))
+    }
+}
