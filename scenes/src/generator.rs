@@ -1,6 +1,10 @@
 //! Seeded random table-top scenes for sweeps: objects from the library at random yaw and
 //! position on the table, not touching, and obstacles at the back.
 //!
+//! The objects come from the paper's six ([`ShapeSet::Paper`], the default) or from the
+//! whole library of eleven ([`ShapeSet::All`]: also a figurine with thin legs, ears and
+//! tail, a hollow pitcher, a tall bottle, a spatula lying flat and a bowl).
+//!
 //! Deterministic: the same seed, object count and configuration give the same scene
 //! (ChaCha8 seeded with the seed). Placement is conservative — the rotated footprints'
 //! bounding rectangles keep `min_gap` apart, so the meshes do too — and every candidate
@@ -19,6 +23,62 @@ use nbv_core::mesh::io::read_mesh;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::path::PathBuf;
+
+/// The objects a generated scene draws from.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
+pub enum ShapeSet {
+    /// The six objects of the paper's Figure 5 ([`ObjectKind::PAPER`]).
+    #[default]
+    Paper,
+    /// Every library object ([`ObjectKind::ALL`]).
+    All,
+}
+
+impl ShapeSet {
+    /// Every set, in a fixed order.
+    pub const ALL: [ShapeSet; 2] = [ShapeSet::Paper, ShapeSet::All];
+
+    /// The set's name in grids and on the command line: `paper` or `all`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ShapeSet::Paper => "paper",
+            ShapeSet::All => "all",
+        }
+    }
+
+    /// The set with this name, if any.
+    ///
+    /// ```
+    /// use nbv_scenes::generator::ShapeSet;
+    /// assert_eq!(ShapeSet::from_name("all"), Some(ShapeSet::All));
+    /// assert_eq!(ShapeSet::from_name("toys"), None);
+    /// ```
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|s| s.name() == name)
+    }
+
+    /// The set's objects, in a fixed order.
+    pub fn kinds(self) -> &'static [ObjectKind] {
+        match self {
+            ShapeSet::Paper => &ObjectKind::PAPER,
+            ShapeSet::All => &ObjectKind::ALL,
+        }
+    }
+}
+
+impl std::fmt::Display for ShapeSet {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for ShapeSet {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::from_name(s).ok_or_else(|| format!("unknown shape set `{s}` (paper | all)"))
+    }
+}
 
 /// Settings of the generator (not part of scene files: they shape the scenes it writes).
 #[derive(Debug, Clone, PartialEq)]
@@ -39,6 +99,8 @@ pub struct GeneratorConfig {
     pub min_reachable_viewpoints: usize,
     /// Number of extra random boxes at the back (besides the back panel), inclusive range.
     pub extra_obstacles: [u32; 2],
+    /// The objects to draw from.
+    pub shapes: ShapeSet,
 }
 
 impl Default for GeneratorConfig {
@@ -56,19 +118,30 @@ impl Default for GeneratorConfig {
             attempts: 500,
             min_reachable_viewpoints: 1,
             extra_obstacles: [0, 2],
+            shapes: ShapeSet::Paper,
         }
     }
 }
 
-/// A random scene with `n_objects` library objects (every reachability test passes).
+/// A random scene with `n_objects` of the paper's objects (every reachability test passes).
 ///
 /// ```no_run
 /// let scene = nbv_scenes::generator::generate(7, 4).unwrap();
 /// assert_eq!(scene.objects.len(), 4);
 /// ```
 pub fn generate(seed: u64, n_objects: usize) -> Result<Scene, SceneError> {
+    generate_from(seed, n_objects, ShapeSet::Paper)
+}
+
+/// A random scene with `n_objects` objects of the set `shapes` (every reachability test
+/// passes); [`generate`] for [`ShapeSet::Paper`].
+pub fn generate_from(seed: u64, n_objects: usize, shapes: ShapeSet) -> Result<Scene, SceneError> {
     let all = |_: &nbv_core::math::Pose| true;
-    generate_with(seed, n_objects, &GeneratorConfig::default(), &all)
+    let config = GeneratorConfig {
+        shapes,
+        ..GeneratorConfig::default()
+    };
+    generate_with(seed, n_objects, &config, &all)
 }
 
 /// A random scene, with an explicit configuration and reachability test.
@@ -100,7 +173,7 @@ pub fn generate_with(
     // Kinds: a shuffled pass over the library, repeated as needed.
     let mut kinds = Vec::with_capacity(n_objects);
     while kinds.len() < n_objects {
-        let mut pass = ObjectKind::ALL.to_vec();
+        let mut pass = config.shapes.kinds().to_vec();
         for i in (1..pass.len()).rev() {
             pass.swap(i, rng.random_range(0..=i));
         }
@@ -108,7 +181,7 @@ pub fn generate_with(
     }
     kinds.truncate(n_objects);
     let mut meshes = std::collections::HashMap::new();
-    for kind in ObjectKind::ALL {
+    for &kind in config.shapes.kinds() {
         let path = config.mesh_dir.join(format!("{}.stl", kind.name()));
         let mesh = read_mesh(&path).map_err(|e| fail(e.to_string()))?;
         meshes.insert(kind, (path, mesh));
@@ -222,10 +295,14 @@ pub fn generate_with(
             }
         }
     }
+    let (name, from) = match config.shapes {
+        ShapeSet::Paper => (format!("random-{seed}"), "the library"),
+        ShapeSet::All => (format!("random-{seed}-all"), "the whole library"),
+    };
     let scene = Scene {
-        name: format!("random-{seed}"),
+        name,
         description: format!(
-            "Random table-top scene: seed {seed}, {n_objects} objects from the library, obstacles at the back."
+            "Random table-top scene: seed {seed}, {n_objects} objects from {from}, obstacles at the back."
         ),
         seed,
         workspace: Workspace {

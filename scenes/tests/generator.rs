@@ -4,7 +4,8 @@ mod common;
 
 use nbv_core::math::Pose;
 use nbv_scenes::Scene;
-use nbv_scenes::generator::{GeneratorConfig, generate_with};
+use nbv_scenes::generator::{GeneratorConfig, ShapeSet, generate_with};
+use nbv_scenes::meshgen::ObjectKind;
 
 fn config() -> GeneratorConfig {
     GeneratorConfig {
@@ -77,4 +78,75 @@ fn reachability_filter_is_applied() {
     )
     .unwrap_err();
     assert!(err.to_string().contains("no room"), "{err}");
+}
+
+/// The kinds of a default scene: the first shuffled pass over the paper's six, as the
+/// generator has always drawn them (ChaCha8 from the seed, Fisher–Yates from the back).
+fn paper_kinds(seed: u64, n: usize) -> Vec<&'static str> {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut pass = ["jug", "bottle-a", "bottle-b", "mallet", "horse", "box"];
+    for i in (1..pass.len()).rev() {
+        pass.swap(i, rng.random_range(0..=i));
+    }
+    pass[..n].to_vec()
+}
+
+#[test]
+fn the_default_draws_the_paper_objects_as_before() {
+    let all = |_: &Pose| true;
+    assert_eq!(config().shapes, ShapeSet::Paper);
+    for (seed, n) in [(1u64, 3usize), (3, 1), (3, 3), (42, 5), (2014, 6)] {
+        let s = generate_with(seed, n, &config(), &all).unwrap();
+        let names: Vec<&str> = s.objects.iter().map(|o| o.name.as_str()).collect();
+        assert_eq!(names, paper_kinds(seed, n), "seed {seed}");
+        assert_eq!(s.name, format!("random-{seed}"));
+        assert_eq!(
+            s,
+            nbv_scenes::generator::generate(seed, n)
+                .map(|g| Scene {
+                    robot: s.robot.clone(),
+                    ..g
+                })
+                .unwrap()
+        );
+    }
+    // Pinned: seed 3 with three objects.
+    let s = generate_with(3, 3, &config(), &all).unwrap();
+    let names: Vec<&str> = s.objects.iter().map(|o| o.name.as_str()).collect();
+    assert_eq!(names, PINNED_3X3);
+}
+
+const PINNED_3X3: [&str; 3] = ["horse", "bottle-a", "box"];
+
+#[test]
+fn all_shapes_places_the_other_objects_too_and_is_deterministic() {
+    let all = |_: &Pose| true;
+    let cfg = GeneratorConfig {
+        shapes: ShapeSet::All,
+        ..config()
+    };
+    let others = ["figurine", "pitcher", "tall-bottle", "spatula", "bowl"];
+    let mut seen = std::collections::BTreeSet::new();
+    for seed in 1..=8u64 {
+        let a = generate_with(seed, 4, &cfg, &all).unwrap();
+        assert_eq!(a, generate_with(seed, 4, &cfg, &all).unwrap());
+        a.validate().unwrap_or_else(|e| panic!("seed {seed}: {e}"));
+        assert_eq!(a.name, format!("random-{seed}-all"));
+        for o in &a.objects {
+            let kind = o
+                .name
+                .split('-')
+                .take_while(|w| w.parse::<u32>().is_err())
+                .collect::<Vec<_>>()
+                .join("-");
+            assert!(ObjectKind::from_name(&kind).is_some(), "{}", o.name);
+            seen.insert(kind);
+        }
+    }
+    let placed = others.iter().filter(|k| seen.contains(**k)).count();
+    assert!(
+        placed >= 4,
+        "only {placed} of the other five in 6 scenes: {seen:?}"
+    );
 }

@@ -49,7 +49,7 @@ fn the_six_paper_objects_are_used_once() {
         .map(|o| o.name)
         .collect();
     used.sort();
-    let mut all: Vec<String> = ObjectKind::ALL
+    let mut all: Vec<String> = ObjectKind::PAPER
         .iter()
         .map(|k| k.name().to_owned())
         .collect();

@@ -1,5 +1,6 @@
-//! The object library: the six objects of the paper's Figure 5 as watertight meshes at
-//! real sizes (metres), each a smooth signed-distance solid meshed by marching tetrahedra.
+//! The object library: the six objects of the paper's Figure 5 ([`ObjectKind::PAPER`]) and
+//! five shapes beyond them, as watertight meshes at real sizes (metres), each a smooth
+//! signed-distance solid meshed by marching tetrahedra.
 //!
 //! | object | shape | size (x × y × z, approx.) |
 //! |---|---|---|
@@ -9,6 +10,14 @@
 //! | `mallet` | rubber head (cylinder) + tapered handle, lying on the table | 0.28 × 0.10 × 0.055 |
 //! | `horse` | toy horse: body, four legs, neck, head, ears, tail | 0.19 × 0.05 × 0.17 |
 //! | `box` | cardboard box with rounded edges | 0.15 × 0.10 × 0.08 |
+//! | `figurine` | standing cat figurine: legs 7 mm thick, ears, a 5.6 mm tail curling up | 0.15 × 0.034 × 0.145 |
+//! | `pitcher` | hollow vessel, open top, 4 mm wall, C handle | 0.145 × 0.11 × 0.18 |
+//! | `tall-bottle` | wine bottle: body, round shoulder, long neck, lip ring | Ø 0.05 × 0.30 |
+//! | `spatula` | kitchen turner lying flat: handle, neck, 5 mm blade | 0.25 × 0.075 × 0.018 |
+//! | `bowl` | low wide bowl, hollow, open top, 4 mm wall | Ø 0.18 × 0.06 |
+//!
+//! The generator draws from the paper's six by default, from all eleven on request
+//! ([`crate::generator::ShapeSet`]).
 //!
 //! The exact bounds are those of the generated meshes ([`ObjectKind::mesh`]); `nbv scene
 //! describe` prints them.
@@ -30,7 +39,7 @@ const MAX_COLLAPSE_ERROR: f64 = 2e-11;
 /// One of the library's objects.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum ObjectKind {
-    /// A jug (pitcher) with a handle, ~0.20 m tall.
+    /// A jug with a spout and a handle, ~0.20 m tall (a solid body).
     Jug,
     /// A 0.5 l plastic water bottle, ~0.21 m tall, Ø 0.065 m.
     BottleA,
@@ -42,17 +51,44 @@ pub enum ObjectKind {
     Horse,
     /// A cardboard box, 0.15 × 0.10 × 0.08 m.
     Box,
+    /// A cat figurine standing on four thin legs (7 mm), with ears and a thin tail;
+    /// ~0.15 m long.
+    Figurine,
+    /// A hollow pitcher with an open top, a 4 mm wall and a handle, ~0.18 m tall.
+    Pitcher,
+    /// A tall narrow wine bottle, Ø 0.05 × 0.30 m.
+    TallBottle,
+    /// A kitchen spatula lying flat, ~0.25 m long, ~0.018 m tall.
+    Spatula,
+    /// A low wide bowl, hollow with an open top, Ø 0.18 × 0.06 m.
+    Bowl,
 }
 
 impl ObjectKind {
-    /// Every object, in a fixed order.
-    pub const ALL: [ObjectKind; 6] = [
+    /// The six objects of the paper's Figure 5, in a fixed order (the generator's default
+    /// set).
+    pub const PAPER: [ObjectKind; 6] = [
         ObjectKind::Jug,
         ObjectKind::BottleA,
         ObjectKind::BottleB,
         ObjectKind::Mallet,
         ObjectKind::Horse,
         ObjectKind::Box,
+    ];
+
+    /// Every object, in a fixed order: the paper's six, then the other five.
+    pub const ALL: [ObjectKind; 11] = [
+        ObjectKind::Jug,
+        ObjectKind::BottleA,
+        ObjectKind::BottleB,
+        ObjectKind::Mallet,
+        ObjectKind::Horse,
+        ObjectKind::Box,
+        ObjectKind::Figurine,
+        ObjectKind::Pitcher,
+        ObjectKind::TallBottle,
+        ObjectKind::Spatula,
+        ObjectKind::Bowl,
     ];
 
     /// The object's name, which is also its mesh file stem (`<name>.stl`).
@@ -64,6 +100,11 @@ impl ObjectKind {
             ObjectKind::Mallet => "mallet",
             ObjectKind::Horse => "horse",
             ObjectKind::Box => "box",
+            ObjectKind::Figurine => "figurine",
+            ObjectKind::Pitcher => "pitcher",
+            ObjectKind::TallBottle => "tall-bottle",
+            ObjectKind::Spatula => "spatula",
+            ObjectKind::Bowl => "bowl",
         }
     }
 
@@ -88,6 +129,16 @@ impl ObjectKind {
             ObjectKind::Mallet => 0.0025,
             ObjectKind::Horse => 0.0022,
             ObjectKind::Box => 0.0045,
+            // Legs 7 mm and a tail 5.6 mm thick: four cells or more across.
+            ObjectKind::Figurine => 0.0014,
+            // Walls 4 mm thick: under two cells across, which marching tetrahedra still
+            // closes (finer cells leave more triangles than the budget: the
+            // simplification stops at about a tenth of the raw count).
+            ObjectKind::Pitcher => 0.0024,
+            ObjectKind::TallBottle => 0.0025,
+            // Blade 5 mm thick: about three cells.
+            ObjectKind::Spatula => 0.0018,
+            ObjectKind::Bowl => 0.0022,
         }
     }
 
@@ -100,6 +151,11 @@ impl ObjectKind {
             ObjectKind::Mallet => mallet(),
             ObjectKind::Horse => horse(),
             ObjectKind::Box => cardboard_box(),
+            ObjectKind::Figurine => figurine(),
+            ObjectKind::Pitcher => pitcher(),
+            ObjectKind::TallBottle => tall_bottle(),
+            ObjectKind::Spatula => spatula(),
+            ObjectKind::Bowl => bowl(),
         }
     }
 
@@ -122,9 +178,10 @@ impl ObjectKind {
         if let Some((lo, hi)) = mesh.bounds() {
             // Lathe objects keep their axis at the origin; the others centre their footprint.
             let (cx, cy) = match self {
-                ObjectKind::Mallet | ObjectKind::Horse => {
-                    (0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y))
-                }
+                ObjectKind::Mallet
+                | ObjectKind::Horse
+                | ObjectKind::Figurine
+                | ObjectKind::Spatula => (0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y)),
                 _ => (0.0, 0.0),
             };
             let shift = Vector3::new(-cx, -cy, -lo.z);
@@ -359,6 +416,184 @@ fn cardboard_box() -> Solid {
     )
 }
 
+fn figurine() -> Solid {
+    // Standing cat facing +x: body, four thin legs (Ø 7 mm), neck, head, two ears (Ø 6 mm)
+    // and a thin tail (Ø 5.6 mm) curling up behind; ~0.15 m long, ~0.145 m tall.
+    let legs = [
+        (0.030, 0.010),
+        (0.030, -0.010),
+        (-0.030, 0.010),
+        (-0.030, -0.010),
+    ];
+    let tail = [
+        Point3::new(-0.038, 0.0, 0.080),
+        Point3::new(-0.056, 0.0, 0.088),
+        Point3::new(-0.068, 0.0, 0.104),
+        Point3::new(-0.073, 0.0, 0.124),
+        Point3::new(-0.069, 0.0, 0.142),
+    ];
+    let f = move |p: &Point3<f64>| {
+        let mut d = ellipsoid(
+            p,
+            &Point3::new(0.0, 0.0, 0.075),
+            &Vector3::new(0.045, 0.017, 0.019),
+        );
+        for (x, y) in legs {
+            let leg = capsule(
+                p,
+                &Point3::new(x, y, 0.070),
+                &Point3::new(x * 1.06, y * 1.1, 0.0035),
+                0.0035,
+            );
+            d = smooth_union(d, leg, 0.005);
+        }
+        let neck = capsule(
+            p,
+            &Point3::new(0.034, 0.0, 0.082),
+            &Point3::new(0.050, 0.0, 0.100),
+            0.0095,
+        );
+        let head = ellipsoid(
+            p,
+            &Point3::new(0.056, 0.0, 0.106),
+            &Vector3::new(0.016, 0.015, 0.014),
+        );
+        let ears = [1.0, -1.0]
+            .map(|s| {
+                capsule(
+                    p,
+                    &Point3::new(0.056, s * 0.008, 0.116),
+                    &Point3::new(0.054, s * 0.010, 0.131),
+                    0.003,
+                )
+            })
+            .into_iter()
+            .fold(f64::INFINITY, f64::min);
+        d = smooth_union(d, neck, 0.008);
+        d = smooth_union(d, head, 0.006);
+        d = smooth_union(d, ears, 0.003);
+        smooth_union(d, tube(p, &tail, 0.0028), 0.004)
+    };
+    (
+        Box::new(f),
+        Point3::new(-0.085, -0.03, 0.0),
+        Point3::new(0.08, 0.03, 0.15),
+    )
+}
+
+/// A hollow vessel open at the top: the lathe solid of `outer` (its profile carried on
+/// above `height`), less the same solid shrunk by `wall` (so the bottom is `wall` thick
+/// too), cut at `height`; `extra` (a handle) is joined to its outside with blend radius
+/// `k` and kept out of the cavity.
+fn vessel(
+    outer: &[[f64; 2]],
+    height: f64,
+    wall: f64,
+    extra: Option<(Vec<Point3<f64>>, f64, f64)>,
+) -> impl Fn(&Point3<f64>) -> f64 + 'static {
+    let body = Lathe::new(outer);
+    move |p: &Point3<f64>| {
+        let o = body.distance(p);
+        let cavity = o + wall;
+        let mut d = o.max(p.z - height);
+        if let Some((path, r, k)) = &extra {
+            d = smooth_union(d, tube(p, path, *r), *k);
+        }
+        d.max(-cavity)
+    }
+}
+
+fn pitcher() -> Solid {
+    // Ø 0.11 body, slightly bulged, flared towards the rim at 0.18 m; wall and bottom 4 mm;
+    // a C-shaped handle (tube Ø 13 mm) on the +x side.
+    let mut profile = vec![[0.0, 0.0], [0.046, 0.0]];
+    profile.extend(arc([0.046, 0.0], [0.050, 0.005], 0.002, 3));
+    profile.extend(arc([0.050, 0.005], [0.050, 0.150], 0.006, 24));
+    profile.extend(arc([0.050, 0.150], [0.055, 0.180], -0.002, 6));
+    profile.extend([[0.055, 0.230], [0.0, 0.230]]);
+    let handle: Vec<Point3<f64>> = (0..=16)
+        .map(|i| {
+            let t = std::f64::consts::PI * (i as f64 / 16.0 - 0.5);
+            Point3::new(0.048 + 0.034 * t.cos(), 0.0, 0.100 + 0.050 * t.sin())
+        })
+        .collect();
+    let f = vessel(&profile, 0.180, 0.004, Some((handle, 0.0065, 0.006)));
+    (
+        Box::new(f),
+        Point3::new(-0.06, -0.06, 0.0),
+        Point3::new(0.095, 0.06, 0.185),
+    )
+}
+
+fn tall_bottle() -> Solid {
+    // Wine bottle: Ø 0.05 body to 0.19 m, round shoulder, long neck Ø 0.019, lip ring;
+    // 0.30 m.
+    let r = 0.025;
+    let mut profile = vec![[0.0, 0.0], [0.021, 0.0]];
+    profile.extend(arc([0.021, 0.0], [r, 0.005], 0.0015, 4));
+    profile.push([r, 0.190]);
+    profile.extend(arc([r, 0.190], [0.0100, 0.235], 0.007, 16));
+    profile.extend([
+        [0.0095, 0.284],
+        [0.0115, 0.286],
+        [0.0115, 0.297],
+        [0.0100, 0.300],
+        [0.0, 0.300],
+    ]);
+    let body = Lathe::new(&profile);
+    let f = move |p: &Point3<f64>| body.distance(p);
+    (
+        Box::new(f),
+        Point3::new(-0.027, -0.027, 0.0),
+        Point3::new(0.027, 0.027, 0.305),
+    )
+}
+
+fn spatula() -> Solid {
+    // Kitchen turner lying flat along x: handle 0.12 × 0.026 × 0.018, a neck sloping down
+    // to the blade, blade 0.10 × 0.075 × 0.005 on the table; 0.25 m long.
+    let f = move |p: &Point3<f64>| {
+        let handle = round_box(
+            p,
+            &Point3::new(0.065, 0.0, 0.009),
+            &Vector3::new(0.060, 0.013, 0.009),
+            0.006,
+        );
+        let neck = capsule(
+            p,
+            &Point3::new(0.012, 0.0, 0.008),
+            &Point3::new(-0.040, 0.0, 0.0035),
+            0.0035,
+        );
+        let blade = round_box(
+            p,
+            &Point3::new(-0.075, 0.0, 0.0025),
+            &Vector3::new(0.050, 0.0375, 0.0025),
+            0.0015,
+        );
+        smooth_union(smooth_union(handle, neck, 0.004), blade, 0.004)
+    };
+    (
+        Box::new(f),
+        Point3::new(-0.13, -0.042, 0.0),
+        Point3::new(0.13, 0.042, 0.022),
+    )
+}
+
+fn bowl() -> Solid {
+    // Ø 0.18 at the rim, 0.06 m tall, a rounded side down to a Ø 0.09 base; wall and bottom
+    // 4 mm.
+    let mut profile = vec![[0.0, 0.0], [0.045, 0.0]];
+    profile.extend(arc([0.045, 0.0], [0.090, 0.060], 0.012, 24));
+    profile.extend([[0.090, 0.100], [0.0, 0.100]]);
+    let f = vessel(&profile, 0.060, 0.004, None);
+    (
+        Box::new(f),
+        Point3::new(-0.095, -0.095, 0.0),
+        Point3::new(0.095, 0.095, 0.065),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -389,6 +624,11 @@ mod tests {
                 ObjectKind::Mallet => ([0.28, 0.10, 0.055], 0.01),
                 ObjectKind::Horse => ([0.19, 0.05, 0.17], 0.01),
                 ObjectKind::Box => ([0.15, 0.10, 0.08], 0.003),
+                ObjectKind::Figurine => ([0.15, 0.034, 0.145], 0.005),
+                ObjectKind::Pitcher => ([0.145, 0.11, 0.18], 0.005),
+                ObjectKind::TallBottle => ([0.05, 0.05, 0.30], 0.003),
+                ObjectKind::Spatula => ([0.25, 0.075, 0.018], 0.003),
+                ObjectKind::Bowl => ([0.18, 0.18, 0.06], 0.003),
             };
             for a in 0..3 {
                 assert!(
@@ -398,6 +638,78 @@ mod tests {
                     size[a]
                 );
             }
+        }
+    }
+
+    /// The highest point where the vertical line through `(x, y)` meets the mesh.
+    fn top_hit(m: &TriMesh, x: f64, y: f64) -> Option<f64> {
+        m.triangles
+            .iter()
+            .filter_map(|t| {
+                let [a, b, c] = t.map(|i| m.vertices[i as usize]);
+                let cross = |p: &Point3<f64>, q: &Point3<f64>| {
+                    (q.x - p.x) * (y - p.y) - (q.y - p.y) * (x - p.x)
+                };
+                let (u, v, w) = (cross(&b, &c), cross(&c, &a), cross(&a, &b));
+                let sum = u + v + w;
+                let inside =
+                    (u >= 0.0 && v >= 0.0 && w >= 0.0) || (u <= 0.0 && v <= 0.0 && w <= 0.0);
+                (inside && sum.abs() > 1e-18).then(|| (u * a.z + v * b.z + w * c.z) / sum)
+            })
+            .reduce(f64::max)
+    }
+
+    #[test]
+    fn the_vessels_are_hollow_with_an_open_top() {
+        for (kind, height) in [(ObjectKind::Pitcher, 0.18), (ObjectKind::Bowl, 0.06)] {
+            let (f, _, _) = kind.solid();
+            // The inside centre is outside the solid, the wall and the bottom are inside.
+            assert!(
+                f(&Point3::new(0.0, 0.0, 0.5 * height)) > 0.0,
+                "{}",
+                kind.name()
+            );
+            assert!(f(&Point3::new(0.0, 0.0, 0.002)) < 0.0, "{}", kind.name());
+            // A vertical ray from above the open top first meets the 4 mm bottom.
+            let m = kind.mesh();
+            let z = top_hit(&m, 0.001, 0.0013).unwrap();
+            assert!(
+                (z - 0.004).abs() < 0.0015,
+                "{}: ray meets z = {z}",
+                kind.name()
+            );
+            // The rim is the top: no lid.
+            let (_, hi) = m.bounds().unwrap();
+            assert!((hi.z - height).abs() < 0.002);
+        }
+    }
+
+    #[test]
+    fn the_figurine_stands_on_four_thin_legs() {
+        let m = ObjectKind::Figurine.mesh();
+        // Between 1 and 4 cm up, only the legs: four clumps, each under 9 mm across.
+        let mut quadrants = [[
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ]; 4];
+        let mut n = 0;
+        for p in m.vertices.iter().filter(|p| (0.01..0.04).contains(&p.z)) {
+            let q = usize::from(p.x > 0.0) * 2 + usize::from(p.y > 0.0);
+            let b = &mut quadrants[q];
+            b[0] = b[0].min(p.x);
+            b[1] = b[1].max(p.x);
+            b[2] = b[2].min(p.y);
+            b[3] = b[3].max(p.y);
+            n += 1;
+        }
+        assert!(n > 0);
+        for b in quadrants {
+            assert!(
+                b[1] - b[0] < 0.009 && b[3] - b[2] < 0.009,
+                "leg section {b:?}"
+            );
         }
     }
 }
