@@ -4,7 +4,7 @@
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 use nbv_core::kinematics::Robot;
-use nbv_scenes::generator::{GeneratorConfig, generate_with};
+use nbv_scenes::generator::{GeneratorConfig, ShapeSet, generate_with};
 use std::path::PathBuf;
 
 /// Arguments of `nbv scene`.
@@ -35,10 +35,13 @@ enum SceneCommand {
         /// Seed of the random choices (also the scene's episode seed).
         #[arg(long, value_parser = clap::value_parser!(u64).range(0..=i64::MAX as u64))]
         seed: u64,
-        /// Number of objects, drawn from the library (jug, bottle-a, bottle-b, mallet,
-        /// horse, box; repeated beyond six).
+        /// Number of objects, drawn from the shape set (repeated beyond its size).
         #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..=12))]
         objects: u64,
+        /// Objects to draw from: `paper` (jug, bottle-a, bottle-b, mallet, horse, box) or
+        /// `all` (also figurine, pitcher, tall-bottle, spatula, bowl).
+        #[arg(long, default_value = "paper", value_parser = parse_shapes)]
+        shapes: ShapeSet,
         /// Output scene file (written atomically; mesh and URDF paths relative to it).
         #[arg(short, long)]
         output: PathBuf,
@@ -57,6 +60,11 @@ enum SceneCommand {
         #[arg(short, long)]
         output: PathBuf,
     },
+}
+
+/// `--shapes`: `paper` or `all`.
+fn parse_shapes(s: &str) -> Result<ShapeSet, String> {
+    s.parse()
 }
 
 /// "Can the arm put `frame` at this world pose?": closed-form IK of the frame through its
@@ -120,12 +128,16 @@ pub fn run(args: SceneArgs) -> Result<()> {
         SceneCommand::Generate {
             seed,
             objects,
+            shapes,
             output,
             urdf,
             mesh_dir,
         } => {
             let n = usize::try_from(objects).context("object count")?;
-            let mut config = GeneratorConfig::default();
+            let mut config = GeneratorConfig {
+                shapes,
+                ..GeneratorConfig::default()
+            };
             let absolute = |p: PathBuf| std::path::absolute(&p).unwrap_or(p);
             if let Some(urdf) = urdf {
                 config.urdf = absolute(urdf);

@@ -5,7 +5,9 @@
 //! ```toml
 //! scenes = ["paper-env1"]                 # files or built-in names
 //! generated = { seeds = [1, 2], objects = 1 }   # scenes from `nbv scene generate`
-//!                                         # (objects = [1, 3, 6]: each seed with each count)
+//!                                         # (objects = [1, 3, 6]: each seed with each count;
+//!                                         # shapes = "all": the whole object library,
+//!                                         # "paper" the default)
 //! seeds = [1, 2]                          # episode seeds (override each scene's seed)
 //! modes = ["hybrid"]                      # hybrid | mid-only | short-only
 //! [params]                                # dotted scene keys → the values to try
@@ -24,6 +26,7 @@
 use crate::error::{Context, Result, bail, invalid};
 use nbv_core::pipeline::ExploreMode;
 use nbv_scenes::Scene;
+use nbv_scenes::generator::ShapeSet;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -53,6 +56,8 @@ struct GridFile {
 struct Generated {
     seeds: Vec<u64>,
     objects: ObjectCounts,
+    #[serde(default)]
+    shapes: Option<String>,
 }
 
 /// `generated.objects`: one count, or a list (every seed with every count).
@@ -77,12 +82,14 @@ impl ObjectCounts {
 pub enum SceneSource {
     /// A scene file or a built-in name.
     Named(String),
-    /// `nbv scene generate --seed S --objects K`.
+    /// `nbv scene generate --seed S --objects K --shapes SET`.
     Generated {
         /// Generator seed.
         seed: u64,
         /// Objects.
         objects: usize,
+        /// The objects drawn from.
+        shapes: ShapeSet,
     },
 }
 
@@ -91,7 +98,16 @@ impl SceneSource {
     pub fn label(&self) -> String {
         match self {
             Self::Named(s) => s.clone(),
-            Self::Generated { seed, objects } => format!("generated-{seed}x{objects}"),
+            Self::Generated {
+                seed,
+                objects,
+                shapes: ShapeSet::Paper,
+            } => format!("generated-{seed}x{objects}"),
+            Self::Generated {
+                seed,
+                objects,
+                shapes,
+            } => format!("generated-{seed}x{objects}-{shapes}"),
         }
     }
 }
@@ -154,13 +170,18 @@ impl SweepGrid {
             if generated.seeds.is_empty() {
                 bail!("{f}: `generated.seeds` is empty");
             }
+            let shapes = match generated.shapes.as_deref() {
+                None => ShapeSet::default(),
+                Some(name) => ShapeSet::from_name(name).ok_or_else(|| {
+                    invalid!("{f}: `generated.shapes` must be \"paper\" or \"all\", not `{name}`")
+                })?,
+            };
             for &objects in &counts {
-                scenes.extend(
-                    generated
-                        .seeds
-                        .iter()
-                        .map(|&seed| SceneSource::Generated { seed, objects }),
-                );
+                scenes.extend(generated.seeds.iter().map(|&seed| SceneSource::Generated {
+                    seed,
+                    objects,
+                    shapes,
+                }));
             }
         }
         if scenes.is_empty() {
@@ -284,10 +305,12 @@ impl Episode {
     pub fn scene(&self, grid_file: &Path) -> Result<Scene> {
         let base = match &self.scene {
             SceneSource::Named(s) => nbv_scenes::overrides::load(s)?,
-            SceneSource::Generated { seed, objects } => {
-                nbv_scenes::generator::generate(*seed, *objects)
-                    .with_context(|| format!("generating scene {}", self.scene.label()))?
-            }
+            SceneSource::Generated {
+                seed,
+                objects,
+                shapes,
+            } => nbv_scenes::generator::generate_from(*seed, *objects, *shapes)
+                .with_context(|| format!("generating scene {}", self.scene.label()))?,
         };
         let origin = format!("{}: params", grid_file.display());
         let mut scene = with_overrides(
@@ -346,8 +369,43 @@ mod tests {
     fn generated_scenes_by_count_then_seed() {
         let g = grid("generated = { seeds = [5, 6], objects = [1, 3] }").unwrap();
         let scenes: Vec<_> = g.episodes().into_iter().map(|e| e.scene).collect();
-        let scene = |seed, objects| SceneSource::Generated { seed, objects };
+        let scene = |seed, objects| SceneSource::Generated {
+            seed,
+            objects,
+            shapes: ShapeSet::Paper,
+        };
         assert_eq!(scenes, [scene(5, 1), scene(6, 1), scene(5, 3), scene(6, 3)]);
+    }
+
+    #[test]
+    fn generated_shapes_select_the_library_and_only_all_changes_the_id() {
+        let paper = grid("generated = { seeds = [5], objects = 2 }").unwrap();
+        let named = grid("generated = { seeds = [5], objects = 2, shapes = \"paper\" }").unwrap();
+        let all = grid("generated = { seeds = [5], objects = 2, shapes = \"all\" }").unwrap();
+        let (p, n, a) = (
+            &paper.episodes()[0],
+            &named.episodes()[0],
+            &all.episodes()[0],
+        );
+        assert_eq!(p.scene.label(), "generated-5x2");
+        assert_eq!(p.id, n.id);
+        // The default's id as the grid has always hashed it: FNV-1a of
+        // "generated-5x2|hybrid|None".
+        assert_eq!(p.id, "0000-b0de410a");
+        assert_eq!(
+            a.scene,
+            SceneSource::Generated {
+                seed: 5,
+                objects: 2,
+                shapes: ShapeSet::All
+            }
+        );
+        assert_eq!(a.scene.label(), "generated-5x2-all");
+        assert_ne!(a.id, p.id);
+        let e = grid("generated = { seeds = [5], objects = 2, shapes = \"toys\" }")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("generated.shapes") && e.contains("toys"), "{e}");
     }
 
     #[test]
