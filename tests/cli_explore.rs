@@ -286,3 +286,57 @@ fn set_overrides_scene_parameters_and_names_bad_keys() {
         assert!(!out.exists());
     }
 }
+
+/// `--oracle`: the ceiling is an upper bound in fact (the exploration's coverage after
+/// every view stays at or under it), the greedy curve rises to it, and the report, the
+/// oracle file and the plot agree.
+#[test]
+fn the_oracle_bounds_the_exploration() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = generated_scene(dir.path());
+    let out = dir.path().join("run");
+    let r = explore(&scene, &out, &["--no-pictures", "--oracle"]);
+    let oracle: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("oracle.json")).unwrap()).unwrap();
+    assert!(out.join("coverage_by_view.svg").is_file());
+    let o = &r["objects"][0];
+    let e = &o["oracle"];
+    let ceiling = f(&e["ceiling"]);
+    let from_file = &oracle["objects"][0];
+    assert_eq!(from_file["name"], o["name"]);
+    assert_eq!(f(&from_file["ceiling"]), ceiling);
+    for c in o["coverage_by_view"].as_array().unwrap() {
+        assert!(
+            f(c) <= ceiling + 1e-12,
+            "coverage {c} above the ceiling {ceiling}"
+        );
+    }
+    let greedy: Vec<f64> = e["greedy"].as_array().unwrap().iter().map(f).collect();
+    assert!(greedy.windows(2).all(|w| w[1] > w[0]), "{greedy:?}");
+    assert_eq!(*greedy.last().unwrap(), ceiling);
+    assert!((f(&e["coverage_of_ceiling"]) - f(&o["coverage"]) / ceiling).abs() < 1e-12);
+    // The oracle's causes of the unseen rest and its coverage add up.
+    let u = &from_file["unseen"];
+    let unseen: f64 = ["table", "self_occluded", "obstacle", "out_of_reach"]
+        .iter()
+        .map(|k| f(&u[*k]))
+        .sum();
+    assert!(
+        (unseen + ceiling - 1.0).abs() < 1e-9,
+        "{u} with ceiling {ceiling}"
+    );
+    let poses = &from_file["poses"];
+    assert!(poses["reachable"].as_u64().unwrap() > 100, "{poses}");
+    // The views that added nothing are counted from the curve.
+    let curve: Vec<f64> = o["coverage_by_view"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(f)
+        .collect();
+    let wasted = curve
+        .windows(2)
+        .filter(|w| w[1] - w[0] < 0.005 - 1e-12)
+        .count();
+    assert_eq!(o["wasted_views"].as_u64().unwrap() as usize, wasted);
+}

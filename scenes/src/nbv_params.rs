@@ -26,6 +26,7 @@ impl Nbv {
             roll_candidates: self.rolls.max(1) as usize,
             objective: self.objective,
             cost_weight: self.cost_weight,
+            object_surface: self.object_surface,
             ..NbvParams::default()
         }
     }
@@ -45,6 +46,8 @@ impl Nbv {
                 GainMeasureName::Kl => GainMeasure::BernoulliKl,
             },
             relative_gain: self.relative_gain,
+            new_surface: self.new_surface,
+            new_surface_views: self.new_surface_views as usize,
         }
     }
 }

@@ -50,7 +50,7 @@ pub fn run_episode(
         return record_episode(scene, mode, out, extras, observer);
     }
     let (config, exploration) = explore_in_twin(scene, mode, observer)?;
-    let oracle = oracle_of(scene, extras)?;
+    let oracle = oracle_of(scene, &exploration, extras)?;
     finish_episode(
         scene,
         &config,
@@ -61,15 +61,30 @@ pub fn run_episode(
     )
 }
 
-/// The scene's oracle when `extras` asks for it.
+/// The scene's oracle when `extras` asks for it, with the views `exploration` took.
 fn oracle_of(
     scene: &nbv_scenes::Scene,
+    exploration: &Exploration,
     extras: Extras,
 ) -> Result<Option<crate::oracle::OracleReport>> {
-    extras
-        .oracle
-        .then(|| crate::oracle::oracle(scene, &crate::oracle::OracleOptions::default()))
-        .transpose()
+    if !extras.oracle {
+        return Ok(None);
+    }
+    let meshes = scene.object_meshes()?;
+    let views = exploration
+        .objects
+        .iter()
+        .filter_map(|o| {
+            let i = crate::matching::true_object(o, scene, &meshes)?;
+            let taken = o.views.iter().map(|v| (v.viewpoint, v.joints)).collect();
+            Some((scene.objects[i].name.clone(), taken))
+        })
+        .collect();
+    let options = crate::oracle::OracleOptions {
+        views,
+        ..Default::default()
+    };
+    crate::oracle::oracle(scene, &options).map(Some)
 }
 
 /// [`run_episode`] with its events recorded into `out/episode.rrd` as well.
@@ -83,7 +98,7 @@ fn record_episode(
 ) -> Result<ExploreReport> {
     let mut recorder = crate::recording::EpisodeRecorder::create(out, scene)?;
     let (config, exploration) = explore_in_twin(scene, mode, &mut recorder.observe(observer))?;
-    let oracle = oracle_of(scene, extras)?;
+    let oracle = oracle_of(scene, &exploration, extras)?;
     let report = finish_episode(
         scene,
         &config,

@@ -163,8 +163,8 @@ pub(crate) fn curves_svg(title: &str, y_desc: &str, curves: &[Curve]) -> Result<
 }
 
 /// `coverage_by_view.svg` of an episode: each matched object's coverage after each view
-/// (thick) beside the oracle's greedy curve (thin, same colour), when the report carries
-/// the oracle.
+/// (thick), the same views seen without noise (medium) and the oracle's greedy curve
+/// (thin), one colour per object, when the report carries the oracle.
 pub fn write_episode_coverage(dir: &Path, report: &crate::report::ExploreReport) -> Result<bool> {
     let mut curves = Vec::new();
     for (i, o) in report.objects.iter().enumerate() {
@@ -175,6 +175,14 @@ pub fn write_episode_coverage(dir: &Path, report: &crate::report::ExploreReport)
             colour: i,
             width: 3,
         });
+        if !oracle.noise_free_by_view.is_empty() {
+            curves.push(Curve {
+                label: format!("{}: the same views without noise", o.name),
+                values: oracle.noise_free_by_view.clone(),
+                colour: i,
+                width: 2,
+            });
+        }
         curves.push(Curve {
             label: format!(
                 "{}: oracle (greedy), ceiling {:.1} %",

@@ -106,6 +106,10 @@ pub struct ViewEntry {
     pub object_points: usize,
     /// Viewpoints that failed before this one.
     pub failures_before: usize,
+    /// The new surface it added: the sides of the object's voxels it saw first, as a share
+    /// of those seen before it (`nbv_core::nbv::SurfaceSides`: no ground truth, what the
+    /// new-surface stop rule reads).
+    pub new_surface: f64,
 }
 
 /// One object.
@@ -372,6 +376,10 @@ pub struct OracleEntry {
     pub oracle_views_to_95: usize,
     /// The greedy set cover's coverage after 0, 1, … views.
     pub greedy: Vec<f64>,
+    /// The exploration's own views seen as the oracle sees them (no noise, no dropouts,
+    /// the true scene) after 0, 1, … views: what its choice of views reached, apart from
+    /// what the sensor and the pipeline lost.
+    pub noise_free_by_view: Vec<f64>,
 }
 
 impl ExploreReport {
@@ -399,6 +407,7 @@ impl ExploreReport {
                     .position(|&c| c >= target - 1e-12),
                 oracle_views_to_95: o.views_to_95,
                 greedy: o.greedy.clone(),
+                noise_free_by_view: o.views_noise_free.clone(),
             });
         }
         let shares: Vec<f64> = self
@@ -767,6 +776,7 @@ fn view_entry(v: &nbv_core::pipeline::AcquiredView) -> ViewEntry {
         frame_points: v.frame_points,
         object_points: v.cloud.len(),
         failures_before: v.failures_before,
+        new_surface: v.new_surface,
     }
 }
 
@@ -776,6 +786,15 @@ fn stop_text(stop: &ObjectStop) -> String {
             format!("gain {gain:.3} below threshold {threshold}")
         }
         ObjectStop::Rule(nbv_core::nbv::StopReason::NoViewpoint) => "no viewpoint left".into(),
+        ObjectStop::Rule(nbv_core::nbv::StopReason::NoNewSurface {
+            share,
+            threshold,
+            views,
+        }) => format!(
+            "the last {views} views added less than {:.1} % new surface (last {:.2} %)",
+            100.0 * threshold,
+            100.0 * share
+        ),
         ObjectStop::Rule(nbv_core::nbv::StopReason::RelativeGain { gain, first, ratio }) => {
             format!("best candidate's gain {gain:.3} below {ratio} of the first round's {first:.3}")
         }

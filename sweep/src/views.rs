@@ -99,6 +99,11 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
             Some(&start),
             &centre,
             &VisitedViews::default(),
+            Some(nbv_core::pipeline::ObjectSurface {
+                region: &region,
+                sides: &nbv_core::nbv::SurfaceSides::of_cloud(map.reduced.geometry(), &cloud),
+                missed: &nbv_core::nbv::MissedVoxels::default(),
+            }),
         )?;
         let mut rows = Vec::new();
         for c in &list.candidates {

@@ -32,10 +32,12 @@
 //!   visited thresholds 0.05 m / 20°, gain_thr = 0.5 (see each type).
 
 mod information_gain;
+mod missed_voxels;
 mod nbv_error;
 mod objectives;
 mod sensor_rays;
 mod stop_rule;
+mod surface_sides;
 mod view_pose;
 mod view_score;
 mod view_sphere;
@@ -44,6 +46,7 @@ mod visibility;
 mod visited_views;
 
 pub use information_gain::InformationGain;
+pub use missed_voxels::MissedVoxels;
 pub use nbv_error::NbvError;
 pub use objectives::{
     AreaRay, GainMap, Objective, RayVoxel, Visibility, VoxelClass, apply_movement_cost,
@@ -54,6 +57,7 @@ pub use objectives::{
 };
 pub use sensor_rays::SensorRays;
 pub use stop_rule::{GainMeasure, StopReason, StopRule};
+pub use surface_sides::SurfaceSides;
 pub use view_pose::{view_pose, view_pose_rolled, view_position, view_rotation};
 pub use view_score::ScoreWeights;
 pub use view_sphere::{SphereSample, ViewSphere};

@@ -28,6 +28,16 @@ pub enum StopReason {
         /// The ratio.
         ratio: f64,
     },
+    /// The latest views each added less new surface than the threshold
+    /// ([`SurfaceSides`](super::SurfaceSides)).
+    NoNewSurface {
+        /// The latest view's share of new surface.
+        share: f64,
+        /// The threshold.
+        threshold: f64,
+        /// How many views in a row fell below it.
+        views: usize,
+    },
 }
 
 /// Which number of an [`InformationGain`] the stop rule compares with `gain_thr`.
@@ -83,6 +93,14 @@ pub struct StopRule {
     /// The relative-gain rule's ratio in [0, 1): stop when the best candidate's objective
     /// value is below it times the first round's best (0, the default: off).
     pub relative_gain: f64,
+    /// The new-surface rule: stop when each of the latest [`new_surface_views`] views
+    /// added less than this share of new surface
+    /// ([`SurfaceSides`](super::SurfaceSides)); 0 (the default): off.
+    ///
+    /// [`new_surface_views`]: Self::new_surface_views
+    pub new_surface: f64,
+    /// Views in a row the new-surface rule waits for (≥ 1 when the rule is on).
+    pub new_surface_views: usize,
 }
 
 impl Default for StopRule {
@@ -91,6 +109,8 @@ impl Default for StopRule {
             gain_threshold: 0.5,
             measure: GainMeasure::Eq5,
             relative_gain: 0.0,
+            new_surface: 0.0,
+            new_surface_views: 2,
         }
     }
 }
@@ -112,7 +132,48 @@ impl StopRule {
                 reason: "must be in [0, 1)",
             });
         }
+        if !(self.new_surface >= 0.0 && self.new_surface < 1.0) {
+            return Err(NbvError::InvalidParameter {
+                name: "new_surface",
+                value: self.new_surface,
+                reason: "must be in [0, 1)",
+            });
+        }
+        if self.new_surface > 0.0 && self.new_surface_views == 0 {
+            return Err(NbvError::InvalidParameter {
+                name: "new_surface_views",
+                value: 0.0,
+                reason: "must be >= 1 when new_surface > 0",
+            });
+        }
         Ok(())
+    }
+
+    /// The new-surface rule: `shares` are the new-surface shares of the object's views so
+    /// far, in order. Off at a threshold of 0.
+    ///
+    /// ```
+    /// use nbv_core::nbv::{StopReason, StopRule};
+    /// let rule = StopRule { new_surface: 0.02, new_surface_views: 2, ..StopRule::default() };
+    /// assert_eq!(rule.check_new_surface(&[0.3, 0.01]), None); // one low view
+    /// assert!(matches!(rule.check_new_surface(&[0.3, 0.01, 0.005]), Some(StopReason::NoNewSurface { views: 2, .. })));
+    /// assert_eq!(rule.check_new_surface(&[0.3, 0.01, 0.05]), None);
+    /// assert_eq!(StopRule::default().check_new_surface(&[0.0, 0.0, 0.0]), None);
+    /// ```
+    pub fn check_new_surface(&self, shares: &[f64]) -> Option<StopReason> {
+        let k = self.new_surface_views;
+        if self.new_surface <= 0.0 || k == 0 || shares.len() < k {
+            return None;
+        }
+        let recent = &shares[shares.len() - k..];
+        recent
+            .iter()
+            .all(|&s| s < self.new_surface)
+            .then(|| StopReason::NoNewSurface {
+                share: recent[k - 1],
+                threshold: self.new_surface,
+                views: k,
+            })
     }
 
     /// The relative-gain rule: `best` is the best candidate's objective value now, `first`
@@ -195,7 +256,7 @@ mod tests {
         let kl = StopRule {
             gain_threshold: 1.0,
             measure: GainMeasure::BernoulliKl,
-            relative_gain: 0.0,
+            ..StopRule::default()
         };
         let g = InformationGain {
             total: -5.0,

@@ -52,6 +52,14 @@ pub struct NbvParams {
     /// λ of Isler's utility `G/ΣG − λ·c/Σc` ([`apply_movement_cost`](super::apply_movement_cost));
     /// 0 (default) ranks by G alone.
     pub cost_weight: f64,
+    /// Eq. (4) counts the object's surface ([`view_candidates`]): only the voxels of
+    /// the object being explored (in its region), an occupied voxel seen from a side no
+    /// view has seen it from as new ([`SurfaceSides`](super::SurfaceSides)), an unknown
+    /// voxel a taken view missed no more ([`MissedVoxels`](super::MissedVoxels)); false
+    /// (default): every voxel of M̄ the rays reach, as printed.
+    ///
+    /// [`view_candidates`]: crate::pipeline::view_candidates
+    pub object_surface: bool,
 }
 
 impl Default for NbvParams {
@@ -64,6 +72,7 @@ impl Default for NbvParams {
             visibility: VisibilityForm::Dda,
             objective: Objective::Paper,
             cost_weight: 0.0,
+            object_surface: false,
         }
     }
 }

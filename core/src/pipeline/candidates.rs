@@ -6,7 +6,11 @@
 use super::{AcquiredView, ExplorationMap, ExploreConfig, ObjectRegion, PipelineError};
 use crate::cloud::PointCloud;
 use crate::kinematics::{IkSolution, Joints, Robot};
-use crate::nbv::{NextBestView, ViewpointList, VisitedViews, apply_movement_cost};
+use crate::nbv::{
+    Candidate, MissedVoxels, NextBestView, Objective, ScoreWeights, SurfaceSides, ViewpointList,
+    VisitedViews, apply_movement_cost, sort_best_first,
+};
+use crate::occupancy::{GridGeometry, OccupancyGrid, ReducedMap, VoxelState};
 use crate::planning::{CollisionWorld, MotionPlanner};
 use nalgebra::Point3;
 
@@ -23,7 +27,12 @@ pub struct ViewCandidates {
 /// each with the inverse-kinematics solutions that are free of self-collision,
 /// the known obstacles and the map (MoveIt's collision-aware IK: a viewpoint none of whose
 /// solutions is free is unreachable, and the next roll about the optical axis is tried).
+/// With [`NbvParams::object_surface`] and the object's `surface` so far, eq. (4) counts
+/// the object's surface ([`object_surface_score`]).
+///
+/// [`NbvParams::object_surface`]: crate::nbv::NbvParams::object_surface
 /// With a movement-cost weight and the arm's joints `start`, ranked by Isler's utility.
+#[allow(clippy::too_many_arguments)]
 pub fn view_candidates(
     robot: &Robot,
     config: &ExploreConfig,
@@ -32,19 +41,129 @@ pub fn view_candidates(
     start: Option<&Joints>,
     centre: &Point3<f64>,
     visited: &VisitedViews,
+    surface: Option<ObjectSurface<'_>>,
 ) -> Result<ViewCandidates, PipelineError> {
     let reduced = &map.reduced;
     let world = CollisionWorld::new(robot, &config.obstacles)?.with_reduced_map(reduced);
+    let surface =
+        surface.filter(|_| nbv.params.object_surface && nbv.params.objective == Objective::Paper);
+    // Eq. (4) over the object's surface sees the map with the unknown space around the
+    // object taken as free; the planner keeps the map as it is.
+    let seen_map = match &surface {
+        Some(s) => Some(object_view_map(&map.grid, s.region)?),
+        None => None,
+    };
+    let scored_on = seen_map.as_ref().unwrap_or(reduced);
     let planner = MotionPlanner::new(world, config.planner)?;
     let usable = |s: &IkSolution| !planner.world().in_collision(&s.joints);
-    let mut list =
-        nbv.candidates_scored(robot, reduced, Some(&map.gains()), centre, visited, &usable)?;
+    let mut list = nbv.candidates_scored(
+        robot,
+        scored_on,
+        Some(&map.gains()),
+        centre,
+        visited,
+        &usable,
+    )?;
+    if let Some(surface) = surface {
+        let geometry = reduced.geometry();
+        for c in &mut list.candidates {
+            c.score = object_surface_score(c, &nbv.params.weights, geometry, &surface);
+            c.utility = c.score;
+        }
+        sort_best_first(&mut list.candidates);
+    }
     if let Some(start) = start
         && nbv.params.cost_weight > 0.0
     {
         apply_movement_cost(&mut list.candidates, start, nbv.params.cost_weight);
     }
     Ok(ViewCandidates { planner, list })
+}
+
+/// What is known of the surface of the object being explored: its region, the sides its
+/// occupied voxels were seen from, the unknown voxels taken views missed.
+#[derive(Debug, Clone, Copy)]
+pub struct ObjectSurface<'a> {
+    /// Where the object is.
+    pub region: &'a ObjectRegion,
+    /// The sides seen so far.
+    pub sides: &'a SurfaceSides,
+    /// The unknown voxels missed.
+    pub missed: &'a MissedVoxels,
+}
+
+/// Eq. (4) over the object's surface: of the candidate's O_v, only the voxels in the
+/// object's region (grown by one voxel); an unknown voxel counts α_u unless a taken view
+/// missed it, an occupied voxel α_u when no view has seen it from the candidate's side and
+/// α_o otherwise. O_v itself (the information gain's domain) is left whole.
+pub fn object_surface_score(
+    c: &Candidate,
+    weights: &ScoreWeights,
+    geometry: &GridGeometry,
+    surface: &ObjectSurface<'_>,
+) -> f64 {
+    let from = nalgebra::Point3::from(c.viewpoint.pose.translation.vector);
+    let mine = |v: &&usize| in_region(geometry, surface.region, **v);
+    let unknown = c
+        .visible
+        .unknown
+        .iter()
+        .filter(mine)
+        .filter(|&&v| !surface.missed.ignored(v))
+        .count() as f64;
+    let (mut new, mut old) = (0.0, 0.0);
+    for &v in c.visible.occupied.iter().filter(mine) {
+        if surface.sides.unseen_from(geometry, v, &from) {
+            new += 1.0;
+        } else {
+            old += 1.0;
+        }
+    }
+    weights.unknown * (unknown + new) + weights.occupied * old
+}
+
+/// The reduced map of `grid` with every unknown voxel outside `region` (grown by one
+/// voxel) taken as free: the object lies in its region, so the unknown space around it —
+/// the laser's shadow behind it, the gaps beside it — hides no surface of it, and a view
+/// from behind sees through that space to the object's unknown back instead of stopping at
+/// the shadow's edge. Occupied voxels (the table, the neighbours) still block.
+fn object_view_map(
+    grid: &OccupancyGrid,
+    region: &ObjectRegion,
+) -> Result<ReducedMap, PipelineError> {
+    let geometry = grid.geometry();
+    let free = grid.params().clamp_min;
+    let log_odds: Vec<f32> = grid
+        .log_odds()
+        .iter()
+        .enumerate()
+        .map(|(v, &o)| {
+            let unknown = grid.state_linear(v) == Some(VoxelState::Unknown);
+            if unknown && !in_region(geometry, region, v) {
+                free
+            } else {
+                o
+            }
+        })
+        .collect();
+    let seen = OccupancyGrid::from_log_odds(geometry.clone(), *grid.params(), log_odds)?;
+    Ok(ReducedMap::from_grid(&seen))
+}
+
+/// Whether voxel `v`'s centre lies in `region` grown by one voxel across and above (its
+/// floor stays: the table's voxels are out).
+fn in_region(geometry: &GridGeometry, region: &ObjectRegion, v: usize) -> bool {
+    let Some(idx) = geometry.unlinear(v) else {
+        return false;
+    };
+    let c = geometry.center(idx);
+    let g = geometry.resolution();
+    c.x >= region.min.x - g
+        && c.x <= region.max.x + g
+        && c.y >= region.min.y - g
+        && c.y <= region.max.y + g
+        && c.z >= region.min.z
+        && c.z <= region.max.z + g
 }
 
 /// Where Algorithm 2 centres its sphere for an object: the centroid of everything seen of

@@ -32,7 +32,9 @@ mod step_timer;
 mod table_evidence;
 mod table_filter;
 
-pub use candidates::{ViewCandidates, view_candidates, viewing_centre};
+pub use candidates::{
+    ObjectSurface, ViewCandidates, object_surface_score, view_candidates, viewing_centre,
+};
 pub use exploration::explore;
 pub use exploration_map::ExplorationMap;
 pub use explore_config::{ExploreConfig, ExploreMode, SURVEY_HEIGHT, SURVEY_SPACING};

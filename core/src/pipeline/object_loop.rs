@@ -4,7 +4,7 @@
 //! viewpoint (after one retreat) or a first view showing no object ends it.
 
 use super::acquire_and_update::{acquire_and_update, table_evidence};
-use super::candidates::{ViewCandidates, view_candidates, viewing_centre};
+use super::candidates::{ObjectSurface, ViewCandidates, view_candidates, viewing_centre};
 use super::episode::Episode;
 use super::plan_and_execute::{plan_clearing_start, retrace};
 use super::step_timer::timed;
@@ -15,8 +15,8 @@ use super::{
 use crate::cloud::PlaneFit;
 use crate::math::Pose;
 use crate::nbv::{
-    Candidate, InformationGain, NextBestView, StopReason, VisitedViews, lazy_best,
-    movement_cost_total,
+    Candidate, InformationGain, MissedVoxels, NextBestView, StopReason, SurfaceSides, VisitedViews,
+    lazy_best, movement_cost_total,
 };
 use crate::rig::RigError;
 
@@ -38,9 +38,17 @@ pub(super) fn explore_object(
     let mut attempt: u64 = 0;
     let mut retreated = false;
     let mut first_best: Option<f64> = None;
+    // The unknown voxels taken views missed, and the sides of the object's voxels seen.
+    let mut missed = MissedVoxels::new(1);
+    let mut sides = SurfaceSides::of_cloud(map.grid.geometry(), &object.cluster);
     loop {
         if object.views.len() >= config.max_views_per_object {
             object.stop = ObjectStop::MaxViews;
+            return Ok(());
+        }
+        let shares: Vec<f64> = object.views.iter().map(|v| v.new_surface).collect();
+        if let Some(reason) = config.stop.check_new_surface(&shares) {
+            object.stop = ObjectStop::Rule(reason);
             return Ok(());
         }
         let ViewCandidates {
@@ -63,6 +71,11 @@ pub(super) fn explore_object(
                 start.as_ref(),
                 &centre,
                 &visited,
+                Some(ObjectSurface {
+                    region,
+                    sides: &sides,
+                    missed: &missed,
+                }),
             )
         })?;
         object.candidates_evaluated += list.candidates.len();
@@ -195,6 +208,11 @@ pub(super) fn explore_object(
             ep.observer
                 .event(&ExploreEvent::GridUpdated { grid: &map.grid });
             visited.push(candidate.viewpoint.pose);
+            missed.record_in(&candidate.visible.unknown, &map.grid);
+            let before = sides.total();
+            let origin = nalgebra::Point3::from(seen.sensor_pose.translation.vector);
+            let added = sides.record(map.grid.geometry(), &origin, &seen.cloud.points);
+            let new_surface = added as f64 / before.max(1) as f64;
             let first_points = object.views.is_empty().then_some(seen.cloud.len());
             let gain = seen.gain;
             object.views.push(AcquiredView {
@@ -214,6 +232,7 @@ pub(super) fn explore_object(
                 table: table_seen,
                 plan: planned.stats,
                 failures_before: failures_since_view,
+                new_surface,
             });
             failures_since_view = 0;
             if let Some(view) = object.views.last() {

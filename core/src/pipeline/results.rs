@@ -117,6 +117,9 @@ pub struct AcquiredView {
     pub plan: PlanStats,
     /// Viewpoints tried before this one succeeded (failures since the previous view).
     pub failures_before: usize,
+    /// The new surface the view added: the sides of the object's voxels it saw first
+    /// ([`SurfaceSides`](crate::nbv::SurfaceSides)), as a share of those seen before it.
+    pub new_surface: f64,
 }
 
 /// A viewpoint that could not be reached.

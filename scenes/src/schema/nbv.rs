@@ -85,6 +85,21 @@ pub struct Nbv {
     /// The relative-gain stop rule: an object is done when its best candidate's objective
     /// value is below this share of its first round's best, in [0, 1). Default 0 (off).
     pub relative_gain: f64,
+    /// Eq. (4) counts the object's surface: only the voxels of the object being explored
+    /// (its phase-1 region grown by one voxel), not the table's or a neighbour's; an
+    /// occupied voxel seen from a side no view has seen it from as new surface; an unknown
+    /// voxel a taken view was predicted to observe and left unknown (an inside, the
+    /// table contact, the gap behind an obstacle) no more
+    /// ([`object_surface_score`](nbv_core::pipeline::object_surface_score)). Twin true,
+    /// paper false (eq. (4) as printed).
+    pub object_surface: bool,
+    /// The new-surface stop rule: an object is done when each of its latest
+    /// `new_surface_views` views added less than this share of new surface to what was seen
+    /// of it (the sides of its voxels seen first, [`SurfaceSides`](nbv_core::nbv::SurfaceSides)), in [0, 1). Twin 0.1,
+    /// paper 0 (off).
+    pub new_surface: f64,
+    /// Views in a row the new-surface rule waits for (≥ 1). Both 2.
+    pub new_surface_views: u32,
 }
 
 impl Default for Nbv {
@@ -116,6 +131,9 @@ impl Nbv {
             objective: NbvParams::default().objective,
             cost_weight: NbvParams::default().cost_weight,
             relative_gain: StopRule::default().relative_gain,
+            object_surface: false,
+            new_surface: 0.0,
+            new_surface_views: 2,
         };
         match preset {
             NbvPreset::Paper => paper,
@@ -125,6 +143,8 @@ impl Nbv {
                 dphi_deg: 20.0,
                 gain_threshold: 2.5,
                 max_views_per_object: 16,
+                object_surface: true,
+                new_surface: 0.1,
                 ..paper
             },
         }
@@ -168,6 +188,9 @@ struct NbvKeys {
     objective: Option<Objective>,
     cost_weight: Option<f64>,
     relative_gain: Option<f64>,
+    object_surface: Option<bool>,
+    new_surface: Option<f64>,
+    new_surface_views: Option<u32>,
 }
 
 impl From<NbvKeys> for Nbv {
@@ -192,6 +215,9 @@ impl From<NbvKeys> for Nbv {
             objective: k.objective.unwrap_or(base.objective),
             cost_weight: k.cost_weight.unwrap_or(base.cost_weight),
             relative_gain: k.relative_gain.unwrap_or(base.relative_gain),
+            object_surface: k.object_surface.unwrap_or(base.object_surface),
+            new_surface: k.new_surface.unwrap_or(base.new_surface),
+            new_surface_views: k.new_surface_views.unwrap_or(base.new_surface_views),
         }
     }
 }
@@ -276,6 +302,14 @@ impl Nbv {
             1.0 - f64::EPSILON,
             "[0, 1)",
         )?;
+        c.within(
+            "nbv.new_surface",
+            self.new_surface,
+            0.0,
+            1.0 - f64::EPSILON,
+            "[0, 1)",
+        )?;
+        c.at_least("nbv.new_surface_views", self.new_surface_views.into(), 1)?;
         Ok(())
     }
 }

@@ -21,16 +21,15 @@
 mod candidate_poses;
 mod set_cover;
 mod unseen;
+mod view_coverage;
 
 pub use candidate_poses::{DensePose, DensePoses};
 pub use set_cover::{CoverSets, GreedyCover};
 pub use unseen::{TABLE_BAND, UnseenCause, UnseenCauses, unseen_cause};
+pub use view_coverage::{FLOOR_ABOVE_TABLE, SurfaceSamples, camera_points};
 
 use crate::error::{Context, Result, SweepError};
-use crate::report::{COVERAGE_SAMPLES, COVERAGE_TOLERANCE};
 use nalgebra::Point3;
-use nbv_core::cloud::near_mask;
-use nbv_core::evaluation::sample_surface_with_normals;
 use nbv_core::kinematics::{Joints, Robot};
 use nbv_core::math::{Pose, pose_to_xyz_rpy};
 use nbv_core::nbv::{NextBestView, VisitedViews};
@@ -56,6 +55,10 @@ pub struct OracleOptions {
     pub object: Option<String>,
     /// The dense pose set.
     pub dense: DensePoses,
+    /// Views an exploration took, per object name: the camera pose and the arm's joints
+    /// of each, in order. Each object's are cast like the oracle's poses
+    /// ([`OracleObject::views_noise_free`]).
+    pub views: Vec<(String, Vec<(Pose, Joints)>)>,
 }
 
 /// The oracle of a scene: `oracle.json`.
@@ -112,6 +115,12 @@ pub struct OracleObject {
     pub poses: PoseCounts,
     /// The unseen rest by cause (shares of the samples).
     pub unseen: UnseenCauses,
+    /// Coverage after 0, 1, … of the views given in [`OracleOptions::views`], seen as the
+    /// oracle sees (laser base, no noise, no dropouts): beside the exploration's own
+    /// coverage it tells what the sensor's noise and the pipeline lost from what the choice
+    /// of views lost. Empty without views.
+    #[serde(default)]
+    pub views_noise_free: Vec<f64>,
 }
 
 impl OracleObject {
@@ -174,18 +183,13 @@ pub fn oracle(scene: &Scene, options: &OracleOptions) -> Result<OracleReport> {
         if options.object.as_ref().is_some_and(|n| n != &object.name) {
             continue;
         }
-        let samples: Vec<_> = sample_surface_with_normals(mesh, COVERAGE_SAMPLES, scene.seed)
-            .into_iter()
-            .filter(|(p, _)| p.z > table_top + 0.005)
-            .collect();
-        let points: Vec<Point3<f64>> = samples.iter().map(|(p, _)| *p).collect();
-        let Some(bounds) = Bounds::of(&points, COVERAGE_TOLERANCE) else {
+        let Some(samples) = SurfaceSamples::of(mesh, table_top, scene.seed) else {
             continue;
         };
-        let centre = bounds.centre(&points, table_top);
-        let base_mask = near_mask(&bounds.keep(&laser), &points, COVERAGE_TOLERANCE);
-        let base_covered: Vec<usize> = (0..points.len()).filter(|&k| base_mask[k]).collect();
-        let mut sets = CoverSets::new(points.len(), &base_covered);
+        let centre = samples.centre(table_top);
+        let base_mask = samples.covered_by(&laser);
+        let base_covered: Vec<usize> = (0..samples.len()).filter(|&k| base_mask[k]).collect();
+        let mut sets = CoverSets::new(samples.len(), &base_covered);
 
         // Algorithm 2's candidates, then the dense set: each with its first usable solution.
         let mut counts = PoseCounts::default();
@@ -229,29 +233,29 @@ pub fn oracle(scene: &Scene, options: &OracleOptions) -> Result<OracleReport> {
                 .iter()
                 .map(|(pose, q)| {
                     world.set_configuration(*q);
-                    let frame = camera.cast(&world, pose, Some(camera_frame));
-                    let [min, max] = camera.spec.range;
-                    let hits: Vec<Point3<f64>> = frame
-                        .pixels
-                        .iter()
-                        .flatten()
-                        .filter(|p| p.dropout < 1.0 && p.distance >= min && p.distance <= max)
-                        .map(|p| p.truth.point)
-                        .collect();
-                    bounds.keep(&hits)
+                    camera_points(&world, &camera, Some(camera_frame), pose)
                 })
                 .collect();
-            let masks: Vec<Vec<bool>> = clouds
-                .par_iter()
-                .map(|c| near_mask(c, &points, COVERAGE_TOLERANCE))
-                .collect();
+            let masks: Vec<Vec<bool>> = clouds.par_iter().map(|c| samples.covered_by(c)).collect();
             for m in &masks {
                 sets.push_mask(m);
             }
         }
+        let n = samples.len() as f64;
+        let mut views_noise_free = Vec::new();
+        if let Some((_, taken)) = options.views.iter().find(|(name, _)| name == &object.name) {
+            let mut covered = base_mask.clone();
+            views_noise_free.push(sets.base_count() as f64 / n);
+            for (pose, q) in taken {
+                world.set_configuration(*q);
+                let mask =
+                    samples.covered_by(&camera_points(&world, &camera, Some(camera_frame), pose));
+                covered.iter_mut().zip(mask).for_each(|(c, m)| *c |= m);
+                views_noise_free.push(covered.iter().filter(|&&c| c).count() as f64 / n);
+            }
+        }
         world.set_configuration(home);
 
-        let n = points.len() as f64;
         let greedy = sets.greedy();
         let alg2 = sets.count_with(0..algorithm2) as f64 / n;
         let ceiling = sets.union_count() as f64 / n;
@@ -259,14 +263,14 @@ pub fn oracle(scene: &Scene, options: &OracleOptions) -> Result<OracleReport> {
             .uncovered()
             .into_iter()
             .map(|k| {
-                let (p, normal) = &samples[k];
+                let (p, normal) = (&samples.points[k], &samples.normals[k]);
                 unseen_cause(&world, i as u32, p, normal, table_top)
             })
             .collect();
         let curve: Vec<f64> = greedy.covered.iter().map(|&c| c as f64 / n).collect();
         objects.push(OracleObject {
             name: object.name.clone(),
-            samples: points.len(),
+            samples: samples.len(),
             ceiling,
             laser: sets.base_count() as f64 / n,
             algorithm2_ceiling: alg2,
@@ -288,7 +292,8 @@ pub fn oracle(scene: &Scene, options: &OracleOptions) -> Result<OracleReport> {
                 })
                 .collect(),
             poses: counts,
-            unseen: UnseenCauses::of(&causes, points.len()),
+            unseen: UnseenCauses::of(&causes, samples.len()),
+            views_noise_free,
         });
     }
     Ok(OracleReport {
@@ -343,46 +348,4 @@ fn first_free(world: &mut TwinWorld, solutions: impl Iterator<Item = Joints>) ->
         }
     }
     None
-}
-
-/// The box around an object's samples, grown by the tolerance: points outside cannot
-/// cover a sample.
-struct Bounds {
-    lo: Point3<f64>,
-    hi: Point3<f64>,
-}
-
-impl Bounds {
-    fn of(points: &[Point3<f64>], grow: f64) -> Option<Self> {
-        let first = points.first()?;
-        let (mut lo, mut hi) = (*first, *first);
-        for p in points {
-            lo = lo.inf(p);
-            hi = hi.sup(p);
-        }
-        let g = nalgebra::Vector3::repeat(grow);
-        Some(Self {
-            lo: lo - g,
-            hi: hi + g,
-        })
-    }
-
-    fn keep(&self, points: &[Point3<f64>]) -> Vec<Point3<f64>> {
-        points
-            .iter()
-            .filter(|p| (0..3).all(|k| p[k] >= self.lo[k] && p[k] <= self.hi[k]))
-            .copied()
-            .collect()
-    }
-
-    /// Where Algorithm 2 would centre its sphere on the whole object: the samples'
-    /// centroid across, the object's middle height above the table.
-    fn centre(&self, points: &[Point3<f64>], table_top: f64) -> Point3<f64> {
-        let n = points.len().max(1) as f64;
-        let c = points
-            .iter()
-            .fold(nalgebra::Vector3::zeros(), |a, p| a + p.coords)
-            / n;
-        Point3::new(c.x, c.y, 0.5 * (table_top + self.hi.z))
-    }
 }
