@@ -20,6 +20,9 @@ use serde::{Deserialize, Serialize};
 /// assert_eq!((twin.preset, twin.radius, twin.max_views_per_object), (NbvPreset::Twin, 0.45, 16));
 /// let paper: Nbv = toml::from_str("preset = \"paper\"\nalpha_u = 2.0").unwrap();
 /// assert_eq!((paper.radius, paper.dphi_deg, paper.alpha_u), (0.3, 30.0, 2.0));
+/// // The paper preset keeps eq. (4) as printed and the stop rules the paper has.
+/// assert_eq!((paper.object_surface, paper.new_surface), (false, 0.0));
+/// assert_eq!((twin.object_surface, twin.new_surface, twin.new_surface_views), (true, 0.1, 2));
 /// assert!(toml::from_str::<Nbv>("radious = 0.3").is_err());
 /// let rse: Nbv = toml::from_str("objective = \"rear-side-entropy\"").unwrap();
 /// assert_eq!(rse.objective, nbv_core::nbv::Objective::RearSideEntropy);
