@@ -7,6 +7,8 @@
 //! - [`obstacle_sliver`]: a cluster that is only a known obstacle's face, moved by pose error;
 //! - [`segment_objects`]: cloud → [`ObjectSegmentation`] (clusters with centroid and box);
 //! - [`merge_stacked_parts`]: the parts of one object the sweep saw apart, one cluster again;
+//! - [`merge_bridged_parts`]: the parts only the thin parts the outlier filter removed join
+//!   (a rim, a leg, a tail), one cluster again;
 //! - [`build_map`]: cloud with origins → [`PhaseOneMap`] (grid, scan counters, reduced map);
 //! - [`phase_one`]: both, with a [`PhaseOneConfig`] → [`PhaseOne`].
 
@@ -17,6 +19,7 @@ mod phase_one;
 mod segmentation;
 mod segmentation_params;
 mod stacked_parts;
+mod thin_parts;
 mod workcell_alignment;
 
 pub use obstacle_sliver::{ObstacleSliver, obstacle_sliver};
@@ -26,4 +29,5 @@ pub use phase_one::{PhaseOne, PhaseOneConfig, PhaseOneMap, build_map, phase_one}
 pub use segmentation::{ObjectSegmentation, SegmentationCounts, segment_objects};
 pub use segmentation_params::SegmentationParams;
 pub use stacked_parts::merge_stacked_parts;
+pub use thin_parts::merge_bridged_parts;
 pub use workcell_alignment::{WorkcellAlignment, align_to_workcell};

@@ -10,8 +10,8 @@ use crate::cloud::{
 use nalgebra::{Point3, Vector3};
 
 use super::{
-    ObstacleSliver, OrientedBox, PerceptionError, SegmentationParams, merge_stacked_parts,
-    obstacle_sliver,
+    ObstacleSliver, OrientedBox, PerceptionError, SegmentationParams, merge_bridged_parts,
+    merge_stacked_parts, obstacle_sliver,
 };
 
 /// Share of the smaller footprint that must lie under the other for two components to be
@@ -40,8 +40,10 @@ pub struct SegmentationCounts {
     pub above_table: usize,
     /// Points in the kept clusters.
     pub clustered: usize,
-    /// Connected components joined to another one standing over the same patch of the
-    /// table ([`merge_stacked_parts`](super::merge_stacked_parts)).
+    /// Connected components joined to another one: linked by points the outlier filter
+    /// removed from a thin part ([`merge_bridged_parts`](super::merge_bridged_parts)), or
+    /// standing over the same patch of the table
+    /// ([`merge_stacked_parts`](super::merge_stacked_parts)).
     pub merged_parts: usize,
     /// Connected components dropped for having fewer than `min_cluster_points` points.
     pub small_components: usize,
@@ -116,9 +118,13 @@ fn step(name: &'static str) -> impl Fn(ProcessingError) -> PerceptionError {
 ///    ([`EuclideanClustering`]);
 /// 6. components standing over the same patch of the table (most of the smaller one's
 ///    footprint, on a grid of the clustering tolerance) are parts of one object the sweep
-///    saw apart, and are merged ([`merge_stacked_parts`](super::merge_stacked_parts));
-///    then clusters outside `[min_cluster_points, max_cluster_points]` are dropped and
-///    counted;
+///    saw apart, and are merged ([`merge_stacked_parts`](super::merge_stacked_parts)); so
+///    are components that the points the outlier filter removed above the table link
+///    within the tolerance (a rim, a leg, a tail: thin parts the filter takes for
+///    outliers; [`merge_bridged_parts`](super::merge_bridged_parts));
+///    then clusters outside `[min_cluster_points, max_cluster_points]` (the lower bound
+///    counting the removed points a cluster's component holds: its thin parts) are dropped
+///    and counted;
 /// 7. a cluster that is a flat layer (thinner than 12 mm) parallel to the face of an
 ///    `exclude` box and at most 5 cm in front of it is that known obstacle's face, moved
 ///    out of its box by the pose error: it goes to [`ObjectSegmentation::slivers`].
@@ -183,15 +189,23 @@ pub fn segment_objects(
         None => (kept, None),
     };
     counts.after_voxel = down.len();
-    let filtered = if params.outlier_neighbours > 0 {
-        StatisticalOutlierFilter {
+    // The removed points stay at hand: the thin parts of objects are among them.
+    let (filtered, removed) = if params.outlier_neighbours > 0 {
+        let inliers = StatisticalOutlierFilter {
             neighbours: params.outlier_neighbours,
             std_mul: params.outlier_std,
         }
-        .filter(&down)
-        .map_err(step("outlier removal"))?
+        .inliers(&down)
+        .map_err(step("outlier removal"))?;
+        let mut keep = vec![false; down.len()];
+        inliers.iter().for_each(|&i| keep[i] = true);
+        let removed: Vec<Point3<f64>> = (0..down.len())
+            .filter(|&i| !keep[i])
+            .map(|i| down.points[i])
+            .collect();
+        (down.select(&inliers), removed)
     } else {
-        down
+        (down, Vec::new())
     };
     counts.after_outliers = filtered.len();
     let ransac = PlaneRansac {
@@ -226,16 +240,32 @@ pub fn segment_objects(
         .clusters(&above)
         .map_err(step("clustering"))?;
         let up = table.as_ref().map_or_else(Vector3::z_axis, |t| t.normal);
-        let (components, merged) = merge_stacked_parts(
+        let (components, stacked) = merge_stacked_parts(
             &above.points,
             components,
             &up,
             params.cluster_tolerance,
             STACKED_SHARE,
         );
-        counts.merged_parts = merged;
-        for mut c in components {
-            if c.len() < params.min_cluster_points {
+        let removed_above: Vec<Point3<f64>> = removed
+            .into_iter()
+            .filter(|p| {
+                table
+                    .as_ref()
+                    .is_none_or(|t| t.signed_distance(p) > params.plane_distance)
+            })
+            .collect();
+        let (components, thin, bridged) = merge_bridged_parts(
+            &above.points,
+            components,
+            &removed_above,
+            params.cluster_tolerance,
+        )
+        .map_err(step("clustering"))?;
+        counts.merged_parts = bridged + stacked;
+        for (mut c, thin) in components.into_iter().zip(thin) {
+            // An object's thin parts count towards its size, though not among its points.
+            if c.len() + thin < params.min_cluster_points {
                 counts.small_components += 1;
             } else if c.len() > params.max_cluster_points {
                 counts.large_components += 1;
