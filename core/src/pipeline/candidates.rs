@@ -146,7 +146,7 @@ fn object_view_map(
             }
         })
         .collect();
-    let seen = OccupancyGrid::from_log_odds(geometry.clone(), *grid.params(), log_odds)?;
+    let seen = OccupancyGrid::from_log_odds(*geometry, *grid.params(), log_odds)?;
     Ok(ReducedMap::from_grid(&seen))
 }
 

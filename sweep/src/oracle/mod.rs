@@ -341,11 +341,9 @@ fn ik_joints(robot: &Robot, frame: &str, pose: &Pose) -> Vec<Joints> {
 }
 
 /// The first of `solutions` at which the arm touches nothing in the true world.
-fn first_free(world: &mut TwinWorld, solutions: impl Iterator<Item = Joints>) -> Option<Joints> {
-    for q in solutions {
-        if world.contacts_at(q).is_empty() {
-            return Some(q);
-        }
-    }
-    None
+fn first_free(
+    world: &mut TwinWorld,
+    mut solutions: impl Iterator<Item = Joints>,
+) -> Option<Joints> {
+    solutions.find(|&q| world.contacts_at(q).is_empty())
 }
