@@ -44,6 +44,23 @@ pub fn summary(report: &ExploreReport) -> String {
             o.stop
         );
     }
+    for o in &report.objects {
+        let Some(e) = &o.oracle else { continue };
+        let reached = e
+            .views_to_95
+            .map_or("never".to_string(), |v| format!("after {v} view(s)"));
+        s += &format!(
+            "  {:<12} ceiling {:.1} %: coverage {:.1} % of it; 95 % of it {reached} (the oracle's greedy views: {}); the same views without noise {}; {} view(s) added under 0.5 point\n",
+            o.name,
+            100.0 * e.ceiling,
+            100.0 * e.coverage_of_ceiling,
+            e.oracle_views_to_95,
+            e.noise_free_by_view
+                .last()
+                .map_or("-".to_string(), |c| format!("{:.1} %", 100.0 * c)),
+            o.wasted_views,
+        );
+    }
     for o in report.objects.iter().filter(|o| o.truth != "object") {
         s += &format!(
             "  {} matches none of the scene's objects: {}\n",
