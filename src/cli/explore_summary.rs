@@ -46,11 +46,11 @@ pub fn summary(report: &ExploreReport) -> String {
     }
     for o in &report.objects {
         let Some(e) = &o.oracle else { continue };
-        let reached = e
-            .views_to_95
-            .map_or("never".to_string(), |v| format!("after {v} view(s)"));
+        let reached = e.views_to_95.map_or("not reached".to_string(), |v| {
+            format!("reached after {v} view(s)")
+        });
         s += &format!(
-            "  {:<12} ceiling {:.1} %: coverage {:.1} % of it; 95 % of it {reached} (the oracle's greedy views: {}); the same views without noise {}; {} view(s) added under 0.5 point\n",
+            "  {:<12} ceiling {:.1} % (what every reachable view sees together); coverage {:.1} % of the ceiling; 95 % of the ceiling {reached} (the oracle's greedy cover: {} view(s)); the same views without noise: {}; {} view(s) added under 0.5 point\n",
             o.name,
             100.0 * e.ceiling,
             100.0 * e.coverage_of_ceiling,

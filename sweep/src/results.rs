@@ -382,7 +382,6 @@ const METRICS: [&str; 35] = [
     "failed_gpa",
     "failed_icp",
     "joint_distance",
-    "nbv_time_per_view",
     "wasted_views",
     "views_after_rise_max",
     "ceiling",
@@ -392,6 +391,7 @@ const METRICS: [&str; 35] = [
     "views_to_95",
     "oracle_views_to_95",
     "views_to_95_ratio_max",
+    "nbv_time_per_view",
     "time_s",
 ];
 
@@ -440,7 +440,6 @@ pub fn csv_text(rows: &[EpisodeRow]) -> Result<String> {
             r.failed_gpa.to_string(),
             r.failed_icp.to_string(),
             format!("{:.6}", r.joint_distance),
-            format!("{:.6}", r.nbv_time_per_view),
             r.wasted_views.to_string(),
             r.views_after_rise_max.to_string(),
             format!("{:.6}", r.ceiling),
@@ -450,6 +449,7 @@ pub fn csv_text(rows: &[EpisodeRow]) -> Result<String> {
             format!("{:.6}", r.views_to_95),
             format!("{:.6}", r.oracle_views_to_95),
             format!("{:.6}", r.views_to_95_ratio_max),
+            format!("{:.6}", r.nbv_time_per_view),
             format!("{:.3}", r.time_s),
         ]);
         w.write_record(&rec)?;
