@@ -185,6 +185,20 @@ fn summary_text(s: &Summary, out: &Path, plots: &[String]) -> String {
         a.failed_registrations,
         a.episodes_per_hour
     );
+    t += &format!(
+        "exploration: {:.1} view(s) per object, {} added under 0.5 point of coverage, at most {} after an object's coverage last rose by 0.5 point",
+        a.views_per_object, a.wasted_views, a.views_after_rise
+    );
+    if a.coverage_of_ceiling_mean > 0.0 {
+        t += &format!(
+            "; against the oracle's ceiling: coverage / ceiling min {:.1}% mean {:.1}%, {} object(s) below 95% of it, at most {:.1}x the oracle's views to 95%",
+            100.0 * a.coverage_of_ceiling,
+            100.0 * a.coverage_of_ceiling_mean,
+            a.below_95,
+            a.views_to_95_ratio
+        );
+    }
+    t += "\n";
     let setting = |b: &Option<BestSetting>| {
         b.as_ref().map_or("-".to_string(), |b| {
             let kv: Vec<String> = b.setting.iter().map(|(k, v)| format!("{k}={v}")).collect();
