@@ -106,9 +106,9 @@ pub struct ViewEntry {
     pub object_points: usize,
     /// Viewpoints that failed before this one.
     pub failures_before: usize,
-    /// The new surface it added: the sides of the object's voxels it saw first, as a share
-    /// of those seen before it (`nbv_core::nbv::SurfaceSides`: no ground truth, what the
-    /// new-surface stop rule reads).
+    /// The new surface it added: the object's voxels it saw first, as a share of those seen
+    /// before it (`nbv_core::nbv::SurfaceSides`: no ground truth, what the new-surface stop
+    /// rule reads).
     pub new_surface: f64,
 }
 

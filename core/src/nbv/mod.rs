@@ -57,7 +57,7 @@ pub use objectives::{
 };
 pub use sensor_rays::SensorRays;
 pub use stop_rule::{GainMeasure, StopReason, StopRule};
-pub use surface_sides::SurfaceSides;
+pub use surface_sides::{NewlySeen, SurfaceSides};
 pub use view_pose::{view_pose, view_pose_rolled, view_position, view_rotation};
 pub use view_score::ScoreWeights;
 pub use view_sphere::{SphereSample, ViewSphere};

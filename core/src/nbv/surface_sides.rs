@@ -4,9 +4,9 @@
 //! side, a thin rim, the back of a bottle's neck); eq. (4) counts it as known once any ray
 //! hit it, so views that would see its unseen sides score as overlap only, while views of
 //! sides already seen keep scoring. With the sides recorded, an occupied voxel seen from a
-//! new direction counts as new surface ([`SurfaceSides::unseen_from`]), and what a view
-//! added is measurable without ground truth ([`SurfaceSides::record`]): the realised gain
-//! the new-surface stop rule reads.
+//! new direction counts as new surface ([`SurfaceSides::unseen_from`]). What a view added
+//! is measurable without ground truth ([`SurfaceSides::record`]): the voxels it saw first
+//! are the realised gain the new-surface stop rule reads.
 
 use crate::occupancy::GridGeometry;
 use nalgebra::{Point3, Vector3};
@@ -41,6 +41,15 @@ fn bin(dirs: &[Vector3<f64>; 26], d: &Vector3<f64>) -> usize {
     best.0
 }
 
+/// What one [`SurfaceSides::record`] saw first.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct NewlySeen {
+    /// Voxels no earlier record had.
+    pub voxels: usize,
+    /// (Voxel, side) pairs no earlier record had (a new voxel's side included).
+    pub sides: usize,
+}
+
 /// Per occupied voxel, the direction bins it was seen from.
 ///
 /// ```
@@ -50,14 +59,17 @@ fn bin(dirs: &[Vector3<f64>; 26], d: &Vector3<f64>) -> usize {
 /// let g = GridGeometry::new(Point3::new(0.0, 0.0, 0.0), Point3::new(1.0, 1.0, 1.0), 0.02).unwrap();
 /// let mut sides = SurfaceSides::default();
 /// let p = Point3::new(0.5, 0.5, 0.5);
-/// // Seen from above: one new side; from above again: nothing new; from below: new.
-/// assert_eq!(sides.record(&g, &Point3::new(0.5, 0.5, 0.9), &[p]), 1);
-/// assert_eq!(sides.record(&g, &Point3::new(0.5, 0.51, 0.9), &[p]), 0);
+/// // Seen from above: a new voxel and side; from above again: nothing new; from below: a
+/// // new side of the same voxel.
+/// let first = sides.record(&g, &Point3::new(0.5, 0.5, 0.9), &[p]);
+/// assert_eq!((first.voxels, first.sides), (1, 1));
+/// assert_eq!(sides.record(&g, &Point3::new(0.5, 0.51, 0.9), &[p]).sides, 0);
 /// let v = g.linear(g.voxel_of(&p).unwrap()).unwrap();
 /// assert!(sides.unseen_from(&g, v, &Point3::new(0.5, 0.5, 0.1)));
 /// assert!(!sides.unseen_from(&g, v, &Point3::new(0.5, 0.5, 0.95)));
-/// assert_eq!(sides.record(&g, &Point3::new(0.5, 0.5, 0.1), &[p]), 1);
-/// assert_eq!(sides.total(), 2);
+/// let below = sides.record(&g, &Point3::new(0.5, 0.5, 0.1), &[p]);
+/// assert_eq!((below.voxels, below.sides), (0, 1));
+/// assert_eq!((sides.voxels(), sides.total()), (1, 2));
 /// ```
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct SurfaceSides {
@@ -67,28 +79,36 @@ pub struct SurfaceSides {
 
 impl SurfaceSides {
     /// Records `points` (world frame) seen from `origin`: each point's voxel seen from the
-    /// direction back to the origin. Returns the (voxel, side) pairs that are new.
+    /// direction back to the origin. Returns what was new.
     pub fn record(
         &mut self,
         geometry: &GridGeometry,
         origin: &Point3<f64>,
         points: &[Point3<f64>],
-    ) -> usize {
+    ) -> NewlySeen {
         let dirs = directions();
-        let mut new = 0;
+        let mut new = NewlySeen::default();
         for p in points {
             let Some(v) = geometry.voxel_of(p).and_then(|i| geometry.linear(i)) else {
                 continue;
             };
             let bit = 1u32 << bin(&dirs, &(origin - p));
-            let mask = self.seen.entry(v).or_insert(0);
+            let mask = self.seen.entry(v).or_insert_with(|| {
+                new.voxels += 1;
+                0
+            });
             if *mask & bit == 0 {
                 *mask |= bit;
-                new += 1;
+                new.sides += 1;
             }
         }
-        self.total += new;
+        self.total += new.sides;
         new
+    }
+
+    /// Voxels seen so far.
+    pub fn voxels(&self) -> usize {
+        self.seen.len()
     }
 
     /// The sides `cloud` shows, each point seen from its own sensor origin (a cloud

@@ -209,10 +209,10 @@ pub(super) fn explore_object(
                 .event(&ExploreEvent::GridUpdated { grid: &map.grid });
             visited.push(candidate.viewpoint.pose);
             missed.record_in(&candidate.visible.unknown, &map.grid);
-            let before = sides.total();
+            let before = sides.voxels();
             let origin = nalgebra::Point3::from(seen.sensor_pose.translation.vector);
             let added = sides.record(map.grid.geometry(), &origin, &seen.cloud.points);
-            let new_surface = added as f64 / before.max(1) as f64;
+            let new_surface = added.voxels as f64 / before.max(1) as f64;
             let first_points = object.views.is_empty().then_some(seen.cloud.len());
             let gain = seen.gain;
             object.views.push(AcquiredView {

@@ -117,7 +117,7 @@ pub struct AcquiredView {
     pub plan: PlanStats,
     /// Viewpoints tried before this one succeeded (failures since the previous view).
     pub failures_before: usize,
-    /// The new surface the view added: the sides of the object's voxels it saw first
+    /// The new surface the view added: the object's voxels it saw first
     /// ([`SurfaceSides`](crate::nbv::SurfaceSides)), as a share of those seen before it.
     pub new_surface: f64,
 }

@@ -22,7 +22,7 @@ use serde::{Deserialize, Serialize};
 /// assert_eq!((paper.radius, paper.dphi_deg, paper.alpha_u), (0.3, 30.0, 2.0));
 /// // The paper preset keeps eq. (4) as printed and the stop rules the paper has.
 /// assert_eq!((paper.object_surface, paper.new_surface), (false, 0.0));
-/// assert_eq!((twin.object_surface, twin.new_surface, twin.new_surface_views), (true, 0.1, 2));
+/// assert_eq!((twin.object_surface, twin.new_surface, twin.new_surface_views), (true, 0.02, 2));
 /// assert!(toml::from_str::<Nbv>("radious = 0.3").is_err());
 /// let rse: Nbv = toml::from_str("objective = \"rear-side-entropy\"").unwrap();
 /// assert_eq!(rse.objective, nbv_core::nbv::Objective::RearSideEntropy);
@@ -97,9 +97,9 @@ pub struct Nbv {
     /// paper false (eq. (4) as printed).
     pub object_surface: bool,
     /// The new-surface stop rule: an object is done when each of its latest
-    /// `new_surface_views` views added less than this share of new surface to what was seen
-    /// of it (the sides of its voxels seen first, [`SurfaceSides`](nbv_core::nbv::SurfaceSides)), in [0, 1). Twin 0.1,
-    /// paper 0 (off).
+    /// `new_surface_views` views saw fewer of its voxels for the first time than this share
+    /// of those seen before ([`SurfaceSides`](nbv_core::nbv::SurfaceSides)), in [0, 1).
+    /// Twin 0.02, paper 0 (off).
     pub new_surface: f64,
     /// Views in a row the new-surface rule waits for (≥ 1). Both 2.
     pub new_surface_views: u32,
@@ -147,7 +147,7 @@ impl Nbv {
                 gain_threshold: 2.5,
                 max_views_per_object: 16,
                 object_surface: true,
-                new_surface: 0.1,
+                new_surface: 0.02,
                 ..paper
             },
         }
