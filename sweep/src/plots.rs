@@ -127,6 +127,13 @@ pub(crate) fn curves_svg(title: &str, y_desc: &str, curves: &[Curve]) -> Result<
         .unwrap_or(1)
         .saturating_sub(1)
         .max(1);
+    // From the tenth below the lowest value: the curves' differences near the top show.
+    let lowest = curves
+        .iter()
+        .flat_map(|c| c.values.iter().copied())
+        .filter(|v| v.is_finite())
+        .fold(1.0f64, f64::min);
+    let y_min = ((lowest * 10.0).floor() / 10.0).clamp(0.0, 0.9);
     let root = SVGBackend::with_string(&mut svg, (800, 600)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| invalid!("{e}"))?;
     let mut chart = ChartBuilder::on(&root)
@@ -134,7 +141,7 @@ pub(crate) fn curves_svg(title: &str, y_desc: &str, curves: &[Curve]) -> Result<
         .margin(20)
         .x_label_area_size(50)
         .y_label_area_size(60)
-        .build_cartesian_2d(0f64..k_max as f64, 0f64..1f64)
+        .build_cartesian_2d(0f64..k_max as f64, y_min..1f64)
         .map_err(|e| invalid!("{e}"))?;
     chart
         .configure_mesh()
@@ -150,11 +157,14 @@ pub(crate) fn curves_svg(title: &str, y_desc: &str, curves: &[Curve]) -> Result<
             .enumerate()
             .map(|(k, v)| (k as f64, *v))
             .collect();
+        let width = c.width;
         chart
-            .draw_series(LineSeries::new(points, colour.stroke_width(c.width)))
+            .draw_series(LineSeries::new(points, colour.stroke_width(width)))
             .map_err(|e| invalid!("{e}"))?
             .label(c.label.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(width))
+            });
     }
     legend_and_present(&mut chart, &root, SeriesLabelPosition::LowerRight)?;
     drop(chart);

@@ -28,10 +28,10 @@ pub struct ViewCandidates {
 /// the known obstacles and the map (MoveIt's collision-aware IK: a viewpoint none of whose
 /// solutions is free is unreachable, and the next roll about the optical axis is tried).
 /// With [`NbvParams::object_surface`] and the object's `surface` so far, eq. (4) counts
-/// the object's surface ([`object_surface_score`]).
+/// the object's surface ([`object_surface_score`]). With a movement-cost weight and the
+/// arm's joints `start`, ranked by Isler's utility.
 ///
 /// [`NbvParams::object_surface`]: crate::nbv::NbvParams::object_surface
-/// With a movement-cost weight and the arm's joints `start`, ranked by Isler's utility.
 #[allow(clippy::too_many_arguments)]
 pub fn view_candidates(
     robot: &Robot,
