@@ -50,11 +50,23 @@ pub fn run_episode(
         return record_episode(scene, mode, out, extras, observer);
     }
     let (config, exploration) = explore_in_twin(scene, mode, observer)?;
-    let oracle = oracle_of(scene, &exploration, extras)?;
+    finish_in_twin(scene, &config, &exploration, out, extras)
+}
+
+/// [`finish_episode`] of an exploration in the twin, with the scene's oracle when
+/// `extras` asks for it.
+fn finish_in_twin(
+    scene: &nbv_scenes::Scene,
+    config: &ExploreConfig,
+    exploration: &Exploration,
+    out: &Path,
+    extras: Extras,
+) -> Result<ExploreReport> {
+    let oracle = oracle_of(scene, exploration, extras)?;
     finish_episode(
         scene,
-        &config,
-        &exploration,
+        config,
+        exploration,
         out,
         extras.pictures,
         oracle.as_ref(),
@@ -98,15 +110,7 @@ fn record_episode(
 ) -> Result<ExploreReport> {
     let mut recorder = crate::recording::EpisodeRecorder::create(out, scene)?;
     let (config, exploration) = explore_in_twin(scene, mode, &mut recorder.observe(observer))?;
-    let oracle = oracle_of(scene, &exploration, extras)?;
-    let report = finish_episode(
-        scene,
-        &config,
-        &exploration,
-        out,
-        extras.pictures,
-        oracle.as_ref(),
-    )?;
+    let report = finish_in_twin(scene, &config, &exploration, out, extras)?;
     recorder.finish(scene, &exploration, &report)?;
     Ok(report)
 }

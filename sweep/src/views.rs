@@ -108,16 +108,8 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
         let mut rows = Vec::new();
         for c in &list.candidates {
             let goals: Vec<_> = c.viewpoint.solutions.iter().map(|s| s.joints).collect();
-            let (xyz, rpy) = pose_to_xyz_rpy(&c.viewpoint.pose);
             let mut row = CandidateRow {
-                pose: [
-                    xyz[0],
-                    xyz[1],
-                    xyz[2],
-                    rpy[0].to_degrees(),
-                    rpy[1].to_degrees(),
-                    rpy[2].to_degrees(),
-                ],
+                pose: pose_in_degrees(&c.viewpoint.pose),
                 sample: [c.viewpoint.sample.i_theta, c.viewpoint.sample.i_phi],
                 unknown: c.visible.unknown.len(),
                 occupied: c.visible.occupied.len(),
@@ -154,6 +146,14 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
         });
     }
     Ok(out)
+}
+
+/// A sensor pose as `nbv views` and `nbv oracle` print it: x, y, z (m), roll, pitch, yaw
+/// (degrees).
+pub(crate) fn pose_in_degrees(pose: &nbv_core::math::Pose) -> [f64; 6] {
+    let (xyz, rpy) = pose_to_xyz_rpy(pose);
+    let [r, p, y] = rpy.map(f64::to_degrees);
+    [xyz[0], xyz[1], xyz[2], r, p, y]
 }
 
 /// Executes `path` in the twin and puts the arm back at `start`; whether it collided.

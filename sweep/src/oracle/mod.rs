@@ -31,7 +31,7 @@ pub use view_coverage::{FLOOR_ABOVE_TABLE, SurfaceSamples, camera_points};
 use crate::error::{Context, Result, SweepError};
 use nalgebra::Point3;
 use nbv_core::kinematics::{Joints, Robot};
-use nbv_core::math::{Pose, pose_to_xyz_rpy};
+use nbv_core::math::Pose;
 use nbv_core::nbv::{NextBestView, VisitedViews};
 use nbv_core::pipeline::ExploreMode;
 use nbv_core::rig::{TruthLabel, acquire_sweep};
@@ -279,17 +279,7 @@ pub fn oracle(scene: &Scene, options: &OracleOptions) -> Result<OracleReport> {
             greedy_views: greedy
                 .picks
                 .iter()
-                .map(|&k| {
-                    let (xyz, rpy) = pose_to_xyz_rpy(&goals[k].0);
-                    [
-                        xyz[0],
-                        xyz[1],
-                        xyz[2],
-                        rpy[0].to_degrees(),
-                        rpy[1].to_degrees(),
-                        rpy[2].to_degrees(),
-                    ]
-                })
+                .map(|&k| crate::views::pose_in_degrees(&goals[k].0))
                 .collect(),
             poses: counts,
             unseen: UnseenCauses::of(&causes, samples.len()),
