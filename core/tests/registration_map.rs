@@ -344,11 +344,11 @@ fn handle_views(sigma: f64, seed: u64, error: &Pose) -> (Vec<PointCloud>, Vec<Po
     (vec![reference, camera], vec![Pose::identity(), mount])
 }
 
-/// The pipeline's refinement: matching along the rays from the start, in a run started
-/// where the nearest points' run ended (with the same priors), ends where one run with
-/// both stages ends (`along_rays`: nearest points until converged, then along the rays).
+/// The pipeline's refinement: matching along the rays, in a run started where the
+/// nearest points' run ended (with the same priors), is accepted and takes the view no
+/// farther from the truth than the nearest points left it.
 #[test]
-fn refining_along_the_rays_from_the_nearest_solution_ends_where_both_stages_end() {
+fn refining_along_the_rays_from_the_nearest_solution_keeps_or_lowers_the_error() {
     let error = Pose::from_parts(
         Vector3::new(0.003, -0.002, 0.001).into(),
         UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 0.4f64.to_radians()),
@@ -364,8 +364,6 @@ fn refining_along_the_rays_from_the_nearest_solution_ends_where_both_stages_end(
         let nearest = register_prepared(&prepared, &views, &initial, &models, &params()).unwrap();
         let mut rays = params();
         rays.map.along_rays = true;
-        let both = register_prepared(&prepared, &views, &initial, &models, &rays).unwrap();
-        rays.map.rays_from_start = true;
         let refined =
             register_prepared_from(&prepared, &views, &initial, &nearest.poses, &models, &rays)
                 .unwrap();
@@ -374,16 +372,23 @@ fn refining_along_the_rays_from_the_nearest_solution_ends_where_both_stages_end(
             "{}",
             map_report(&refined).verdict
         );
-        // The two agree to under 10 µm; the refinement moved the view 0.3 and 0.9 mm
-        // (measured) from the nearest points' solution.
-        let apart = both.poses[1].inverse() * refined.poses[1];
-        let centre = views[1].centroid().unwrap();
-        assert!((apart * centre - centre).norm() < 1e-5, "{apart}");
-        assert!(apart.rotation.angle() < 1e-4, "{apart}");
-        let moved = nearest.poses[1].inverse() * refined.poses[1];
+        let start = alignment_error(&views[1..], &initial[1..]).mean;
+        let near = alignment_error(&views[1..], &nearest.poses[1..]).mean;
+        let along = alignment_error(&views[1..], &refined.poses[1..]).mean;
         println!(
-            "refinement moved the view {:.3} mm",
-            (moved * centre - centre).norm() * 1e3
+            "seed {seed}: {:.3} mm as given, {:.3} mm nearest, {:.3} mm refined",
+            start * 1e3,
+            near * 1e3,
+            along * 1e3
+        );
+        // Measured: 3.72 → 2.04 → 1.86 mm (seed 41), 3.73 → 1.54 → 1.21 mm (seed 42).
+        assert!(
+            along < 0.6 * start,
+            "seed {seed}: refined {along} from {start}"
+        );
+        assert!(
+            along <= near,
+            "seed {seed}: refined {along}, nearest {near}"
         );
     }
 }
@@ -418,7 +423,7 @@ fn matching_along_the_rays_agrees_with_the_nearest_on_noise_free_views() {
 }
 
 /// A camera view of a thin cylinder with 6 mm of noise along its rays, started at the
-/// truth: matched along the rays (after the nearest points' stages) it stays where matched
+/// truth: matched along the rays it stays where matched
 /// at its nearest reference points, within 0.1 mm at each of three seeds (measured: 1.45,
 /// 0.33, 0.25 mm nearest; 1.45, 0.34, 0.25 mm along the rays): the truth is a fixed point
 /// of both.

@@ -192,7 +192,6 @@ impl Scene {
                 // centimetre noise, view-to-view terms pull them off (`MapParams`).
                 map: MapParams {
                     view_to_view: false,
-                    along_rays: self.registration.along_rays,
                     ..MapParams::default()
                 },
                 ..RegistrationParams::default()
@@ -200,12 +199,6 @@ impl Scene {
             uncertainty: self.pose_uncertainty(),
             align_to_workcell: self.registration.align_to_workcell,
             calibrate_hand_eye: self.registration.calibrate_hand_eye,
-            table_evidence: self.registration.table_evidence,
-            registration_free_space: self.registration.free_space,
-            camera_free_space: self.registration.camera_free_space,
-            registration_smoothing: self.registration.smoothing as usize,
-            refine_along_rays: self.registration.refine_along_rays,
-            measured_reference: self.registration.measured_reference,
             registration_baselines: self.registration.baselines,
             registration_points: self.registration.points_per_view as usize,
             max_correction: (

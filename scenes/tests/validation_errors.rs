@@ -325,41 +325,33 @@ fn bad_objective_and_cost_weight() {
     }
 }
 
+/// `[registration]` has three on/off keys; a switch folded into the method is an unknown
+/// key, named with its line, not silently ignored.
 #[test]
-fn registration_smoothing_beyond_eight_pixels_is_rejected() {
+fn registration_keys_folded_into_the_method_are_rejected_by_name() {
     let with = |line: &str| {
         env1().replace(
             "points_per_view = 2000\n",
             &format!("points_per_view = 2000\n{line}\n"),
         )
     };
-    let (key, problem) = invalid(&with("smoothing = 9"));
-    assert_eq!(key, "registration.smoothing");
-    assert!(matches!(problem, Problem::OutOfRange { .. }), "{problem}");
-    let scene = check(&with("smoothing = 0\ncamera_free_space = false")).unwrap();
-    assert_eq!(scene.registration.smoothing, 0);
-    assert!(!scene.registration.camera_free_space);
-    // Unset: the defaults.
     let scene = check(&env1()).unwrap();
-    assert_eq!(scene.registration.smoothing, 2);
-    assert!(scene.registration.camera_free_space);
-}
-
-#[test]
-fn the_measured_reference_is_off_unless_asked_for_and_must_be_a_boolean() {
-    let with = |line: &str| {
-        env1().replace(
-            "points_per_view = 2000\n",
-            &format!("points_per_view = 2000\n{line}\n"),
-        )
-    };
-    let mode = nbv_core::pipeline::ExploreMode::Hybrid;
-    let scene = check(&env1()).unwrap();
-    assert!(!scene.registration.measured_reference);
-    assert!(!scene.explore_config(mode).unwrap().measured_reference);
-    let scene = check(&with("measured_reference = true")).unwrap();
-    assert!(scene.explore_config(mode).unwrap().measured_reference);
-    let err = check(&with("measured_reference = 1")).unwrap_err();
+    let r = &scene.registration;
+    assert!(r.align_to_workcell && r.calibrate_hand_eye && r.baselines);
+    for key in [
+        "along_rays",
+        "refine_along_rays",
+        "measured_reference",
+        "free_space",
+        "camera_free_space",
+        "table_evidence",
+        "smoothing",
+    ] {
+        let err = check(&with(&format!("{key} = false"))).unwrap_err();
+        let msg = err.to_string();
+        assert!(matches!(err, SceneError::Parse { .. }), "{key}: {msg}");
+        assert!(msg.contains(key) && msg.contains("line"), "{key}: {msg}");
+    }
+    let err = check(&with("baselines = 1")).unwrap_err();
     assert!(matches!(err, SceneError::Parse { .. }), "{err}");
-    assert!(err.to_string().contains("line"), "{err}");
 }

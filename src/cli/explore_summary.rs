@@ -174,16 +174,9 @@ pub fn summary(report: &ExploreReport) -> String {
              registration)\n",
         tau = QUALITY_TOLERANCE * 1e3
     );
-    // The refinement runs unless every pass already matched along the rays.
-    let registration = &report.config["registration"];
-    let refined = registration["refine_along_rays"] == serde_json::json!(true)
-        && registration["along_rays"] != serde_json::json!(true);
     s += "  (alignment: mean displacement of the true points by each view's misalignment; \
-              map = the model's registration";
-    if refined {
-        s += ", refined last along the camera's rays ([registration] refine_along_rays)";
-    }
-    s += "; ! = rejected (map: not converged or the \
+              map = the model's registration, refined last along the camera's rays\
+              ; ! = rejected (map: not converged or the \
               objective did not fall; p-icp-gpa, icp: not converged or a correction beyond \
               [registration] max_correction_*): the model keeps the reported poses)\n";
     s

@@ -63,13 +63,6 @@ pub struct ObjectSegmentation {
     pub table: Option<PlaneFit>,
     /// The object clusters P_j^0, in the order of their smallest point index.
     pub clusters: Vec<Cluster>,
-    /// Each cluster's points as the sensor measured them: every point of the cropped
-    /// input in the cluster's voxels ([`VoxelFilter::in_voxels_of`]; the cluster itself
-    /// when `voxel` is 0). A voxel's centroid lies inside a curved surface and rounds a
-    /// rim off (at 5 mm voxels, by ~0.04 mm on a 2 cm radius and up to about a millimetre
-    /// at a sharp rim), and where the sensor was near, a voxel holds several of its
-    /// points: the registration's reference may take these instead.
-    pub sources: Vec<PointCloud>,
     /// Clusters that are only a known obstacle's face moved by the pose error
     /// ([`obstacle_sliver`](super::obstacle_sliver)): not objects.
     pub slivers: Vec<(Cluster, ObstacleSliver)>,
@@ -183,10 +176,9 @@ pub fn segment_objects(
     let voxels = (params.voxel > 0.0).then_some(VoxelFilter {
         leaf_size: params.voxel,
     });
-    // The cropped input stays for the clusters' sources where the voxel filter thins it.
-    let (down, kept) = match &voxels {
-        Some(f) => (f.filter(&kept).map_err(step("voxel filter"))?, Some(kept)),
-        None => (kept, None),
+    let down = match &voxels {
+        Some(f) => f.filter(&kept).map_err(step("voxel filter"))?,
+        None => kept,
     };
     counts.after_voxel = down.len();
     // The removed points stay at hand: the thin parts of objects are among them.
@@ -290,77 +282,11 @@ pub fn segment_objects(
             }
         }
     }
-    let clouds: Vec<PointCloud> = clusters.iter().map(|c| c.cloud(&filtered)).collect();
-    let sources = match (&voxels, &kept) {
-        (Some(f), Some(kept)) => {
-            let occupied: Vec<&[Point3<f64>]> = clouds.iter().map(|c| &c.points[..]).collect();
-            f.in_voxels_of(kept, &occupied)
-                .map_err(step("voxel filter"))?
-        }
-        _ => clouds,
-    };
     Ok(ObjectSegmentation {
         filtered,
         table,
         clusters,
-        sources,
         slivers,
         counts,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_clusters_sources_are_its_input_points_on_the_surface_where_its_centroids_sink_in() {
-        // A table at z = 0 every 5 mm and a cylinder of radius 2 cm, 6 cm tall, sampled
-        // every ~1 mm on its side.
-        let mut pts = Vec::new();
-        for i in -40..40 {
-            for j in -40..40 {
-                pts.push(Point3::new(f64::from(i) * 0.005, f64::from(j) * 0.005, 0.0));
-            }
-        }
-        let (radius, centre) = (0.02, Point3::new(0.0012, -0.0007, 0.0));
-        for k in 0..126 {
-            let a = f64::from(k) * std::f64::consts::TAU / 126.0;
-            for h in 0..60 {
-                let z = 0.0005 + f64::from(h) * 0.001;
-                pts.push(centre + nalgebra::Vector3::new(radius * a.cos(), radius * a.sin(), z));
-            }
-        }
-        let cloud = PointCloud::from_points(pts);
-        let params = SegmentationParams {
-            voxel: 0.005,
-            outlier_neighbours: 0,
-            ..Default::default()
-        };
-        let seg = segment_objects(&cloud, &params, None, &[]).unwrap();
-        assert_eq!((seg.clusters.len(), seg.sources.len()), (1, 1));
-        let off_axis = |p: &Point3<f64>| (p.xy() - centre.xy()).norm() - radius;
-        let cluster = seg.cluster_cloud(0).unwrap();
-        let sunk = cluster.points.iter().map(off_axis).sum::<f64>() / cluster.len() as f64;
-        // The voxel centroids lie inside the side, by ~0.04 mm on average.
-        assert!(sunk < -2e-5, "{sunk}");
-        let sources = &seg.sources[0];
-        assert!(
-            sources.len() > 3 * cluster.len(),
-            "{} {}",
-            sources.len(),
-            cluster.len()
-        );
-        for p in &sources.points {
-            assert!(off_axis(p).abs() < 1e-12);
-            assert!(cloud.points.contains(p));
-        }
-        // Without the voxel filter, the sources are the cluster.
-        let raw = SegmentationParams {
-            voxel: 0.0,
-            ..params
-        };
-        let seg = segment_objects(&cloud, &raw, None, &[]).unwrap();
-        assert_eq!(seg.sources[0], seg.cluster_cloud(0).unwrap());
-    }
 }

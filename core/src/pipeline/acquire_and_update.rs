@@ -2,8 +2,8 @@
 //! the frame into the grid (eq. (1)–(2)), the information gain over the voxels the view
 //! was predicted to see (eq. (5)), and the object's points of the frame — cropped to its
 //! region, the table and the known obstacles taken out — and, for the registration, those
-//! of the frame smoothed ([`ExploreConfig::registration_smoothing`]) and where the camera
-//! saw empty space.
+//! of the frame smoothed ([`REGISTRATION_SMOOTHING`]) and where the camera saw empty
+//! space.
 
 use super::step_timer::timed;
 use super::{ExplorationMap, ExploreConfig, ObjectRegion, PipelineError, StepTimes, TableEvidence};
@@ -19,6 +19,14 @@ use crate::rig::{
 };
 use nalgebra::Point3;
 
+/// Half-width (pixels) of the edge-gated plane fit ([`smooth_frame`]) that smooths each
+/// view's averaged frame for the registration alone: the camera's noise along its rays
+/// leaves registered views 1–3 mm too deep on curved objects, and the fit over 5 × 5
+/// pixels takes most of it out (docs/registration.md). The grid and the model keep the
+/// averaged frame's points; a frame already smoothed by `[nbv] depth_smoothing` is
+/// registered as it is.
+pub const REGISTRATION_SMOOTHING: usize = 2;
+
 /// What one view added.
 #[derive(Debug, Clone)]
 pub(super) struct Observation {
@@ -32,9 +40,8 @@ pub(super) struct Observation {
     pub cloud: PointCloud,
     /// The whole frame (world frame).
     pub frame: PointCloud,
-    /// Where the camera saw empty space (world frame at the reported pose), when the
-    /// registration uses it.
-    pub free_space: Option<DepthImageFreeSpace>,
+    /// Where the camera saw empty space (world frame at the reported pose).
+    pub free_space: DepthImageFreeSpace,
     /// The object's points of the frame smoothed for the registration, cut as `cloud`
     /// (`None`: the registration uses `cloud`).
     pub registration_cloud: Option<PointCloud>,
@@ -66,17 +73,12 @@ pub(super) fn acquire_and_update(
                 .uncertainty
                 .camera_noise
                 .averaged(config.frames_per_view.max(1));
-            let free_space = config
-                .camera_free_space
-                .then(|| camera_free_space(&frame, spec, &pose, noise))
-                .transpose()?;
+            let free_space = camera_free_space(&frame, spec, &pose, noise)?;
             // The frame smoothed for the registration alone.
-            let smoothed = (config.registration_smoothing > 0 && config.depth_smoothing == 0)
+            let smoothed = (config.depth_smoothing == 0)
                 .then(|| {
                     let smoothed =
-                        smooth_frame(frame.clone(), config.registration_smoothing, |z| {
-                            noise.sigma(z)
-                        });
+                        smooth_frame(frame.clone(), REGISTRATION_SMOOTHING, |z| noise.sigma(z));
                     depth_frame_to_cloud(&smoothed, spec, &pose)
                 })
                 .transpose()?;
@@ -157,7 +159,7 @@ pub(super) fn table_evidence(
     table: Option<&PlaneFit>,
     config: &ExploreConfig,
 ) -> Option<TableEvidence> {
-    if !(config.calibrate_hand_eye && config.table_evidence) {
+    if !config.calibrate_hand_eye {
         return None;
     }
     let single = config.uncertainty.camera_noise;

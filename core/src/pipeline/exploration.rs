@@ -47,8 +47,7 @@ pub fn explore(
     let mut preparations = Vec::new();
     // The laser's free space, for the registration (the camera survey of short-only mode
     // is no accurate reference).
-    let sweep = (config.mode != ExploreMode::ShortOnly && config.registration_free_space)
-        .then_some(&phase_report.cloud);
+    let sweep = (config.mode != ExploreMode::ShortOnly).then_some(&phase_report.cloud);
     let nbv = NextBestView::new(config.nbv, ep.rig.camera.spec())?;
     ep.footprints = segmentation
         .clusters
@@ -60,7 +59,6 @@ pub fn explore(
         let mut object = ObjectExploration {
             index: j,
             cluster: cluster.cloud(&segmentation.filtered),
-            reference: segmentation.sources[j].clone(),
             views: Vec::new(),
             failures: Vec::new(),
             candidates_evaluated: 0,
@@ -121,11 +119,9 @@ pub fn explore(
     } else {
         None
     };
-    if config.refine_along_rays {
-        register_again(&mut objects, &preparations, |object, prepared| {
-            refine_along_rays(object, prepared, config)
-        });
-    }
+    register_again(&mut objects, &preparations, |object, prepared| {
+        refine_along_rays(object, prepared, config)
+    });
     Ok(Exploration {
         mode: config.mode,
         phase_one: phase_report,

@@ -85,29 +85,10 @@ pub struct ExploreConfig {
     /// ([`align_to_workcell`](crate::perception::align_to_workcell)).
     pub align_to_workcell: bool,
     /// Estimate the depth camera's hand-eye correction and the joint offsets from every
-    /// object's registration and register each object again from the calibrated poses
-    /// ([`estimate_hand_eye`](super::estimate_hand_eye)).
+    /// object's registration and each view's table evidence
+    /// ([`TableEvidence`](super::TableEvidence)), and register each object again from the
+    /// calibrated poses ([`estimate_hand_eye`](super::estimate_hand_eye)).
     pub calibrate_hand_eye: bool,
-    /// Give the self-calibration each camera view's table evidence beside its
-    /// registration ([`TableEvidence`](super::TableEvidence)).
-    pub table_evidence: bool,
-    /// Give the MAP registration the laser sweep's free space around each object
-    /// ([`sweep_free_space`](super::sweep_free_space)).
-    pub registration_free_space: bool,
-    /// Give the MAP registration each camera view's own free space (its averaged depth
-    /// image, [`DepthImageFreeSpace`](crate::registration::DepthImageFreeSpace)).
-    pub camera_free_space: bool,
-    /// Half-width (pixels) of the plane fit ([`smooth_frame`](crate::rig::smooth_frame))
-    /// that smooths each view's averaged frame for the registration alone (0: none; unused
-    /// when [`depth_smoothing`](Self::depth_smoothing) already smooths the frame).
-    pub registration_smoothing: usize,
-    /// After the registration passes (and the self-calibration's), refine each object's
-    /// accepted MAP registration along the camera's rays, from where it ended.
-    pub refine_along_rays: bool,
-    /// Register against the cluster's measured laser points
-    /// ([`ObjectExploration::reference`](super::ObjectExploration::reference)) instead of
-    /// the voxel filter's centroids.
-    pub measured_reference: bool,
     /// Register each object by the paper's p-ICP-GPA and sequential ICP too, beside the
     /// model's MAP registration (for comparison only: the model does not use them).
     pub registration_baselines: bool,

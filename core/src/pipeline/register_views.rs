@@ -97,8 +97,7 @@ fn map_accepted(map: &Registration) -> bool {
     matches!(&map.report, MethodReport::Map(m) if m.accepted)
 }
 
-/// Registers the cluster (or its measured points, [`ObjectExploration::reference`]) and
-/// the views with the MAP registration (the model's) and, when the configuration asks for
+/// Registers the cluster and the views with the MAP registration (the model's) and, when the configuration asks for
 /// the baselines, the paper's p-ICP-GPA and sequential ICP, from the same input. Also
 /// returns the views as prepared for the MAP registration, for [`register_calibrated`].
 pub(super) fn register_object(
@@ -107,13 +106,7 @@ pub(super) fn register_object(
     workcell: Option<&WorkcellAlignment>,
     sweep: Option<&PointCloud>,
 ) -> Result<(ObjectRegistration, MapPreparation), RegistrationError> {
-    // The model keeps the cluster whichever reference the views are registered against.
-    let reference = if config.measured_reference {
-        &object.reference
-    } else {
-        &object.cluster
-    };
-    let views = registration_views(object, reference, config, true);
+    let views = registration_views(object, &object.cluster, config, true);
     let initial = vec![Pose::identity(); views.len()];
     let models = uncertainty_of(config, workcell).view_models(&views, config.frames_per_view);
     let map_params = params(config, Method::Map);
@@ -126,9 +119,7 @@ pub(super) fn register_object(
         prepared = prepared.with_free_space(0, free)?;
     }
     for (k, view) in object.registered_views().enumerate() {
-        if let Some(free) = &view.free_space {
-            prepared = prepared.with_depth_image(k + 1, free.clone())?;
-        }
+        prepared = prepared.with_depth_image(k + 1, view.free_space.clone())?;
     }
     let map = register_prepared(&prepared, &views, &initial, &models, &map_params)?;
     let (gpa, icp) = if config.registration_baselines {
@@ -233,10 +224,10 @@ pub(super) fn register_calibrated(
 
 /// The object's accepted MAP registration refined along the camera's rays: started where
 /// it ended, with the same initial poses and priors, every camera point matched where its
-/// viewing ray crosses the laser cluster ([`MapParams::rays_from_start`]). It replaces the
-/// registration when accepted; `Ok(false)` leaves it (not accepted, or nothing to refine).
+/// viewing ray crosses the laser cluster ([`MapParams::along_rays`]). It replaces the
+/// registration when accepted; `Ok(false)` leaves it (not accepted).
 ///
-/// [`MapParams::rays_from_start`]: crate::registration::MapParams::rays_from_start
+/// [`MapParams::along_rays`]: crate::registration::MapParams::along_rays
 pub(super) fn refine_along_rays(
     object: &mut ObjectExploration,
     prepared: &MapPreparation,
@@ -246,11 +237,7 @@ pub(super) fn refine_along_rays(
         return Ok(false);
     };
     let mut map_params = params(config, Method::Map);
-    if map_params.map.along_rays {
-        return Ok(false);
-    }
     map_params.map.along_rays = true;
-    map_params.map.rays_from_start = true;
     let mut map = register_prepared_from(
         prepared,
         &r.views,

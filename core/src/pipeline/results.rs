@@ -101,12 +101,11 @@ pub struct AcquiredView {
     pub frame_points: usize,
     /// The object's points of the frame (world frame, reported pose).
     pub cloud: PointCloud,
-    /// Where the camera saw empty space (world frame, reported pose), when the
-    /// registration uses it.
-    pub free_space: Option<DepthImageFreeSpace>,
+    /// Where the camera saw empty space (world frame, reported pose).
+    pub free_space: DepthImageFreeSpace,
     /// The object's points of the frame smoothed for the registration
-    /// ([`ExploreConfig::registration_smoothing`](super::ExploreConfig::registration_smoothing)),
-    /// cut as `cloud`; `None` where the registration uses `cloud`.
+    /// ([`REGISTRATION_SMOOTHING`](super::REGISTRATION_SMOOTHING)), cut as `cloud`; `None`
+    /// where the registration uses `cloud` (a frame `[nbv] depth_smoothing` smoothed).
     pub registration_cloud: Option<PointCloud>,
     /// Eq. (5) over O_v.
     pub gain: InformationGain,
@@ -193,12 +192,6 @@ pub struct ObjectExploration {
     pub index: usize,
     /// The phase-1 cluster P_j^0.
     pub cluster: PointCloud,
-    /// The cluster's points as the sensor measured them, without the voxel filter
-    /// ([`ObjectSegmentation::sources`]): the registration's reference (view 0) with
-    /// [`ExploreConfig::measured_reference`](super::ExploreConfig::measured_reference).
-    ///
-    /// [`ObjectSegmentation::sources`]: crate::perception::ObjectSegmentation::sources
-    pub reference: PointCloud,
     /// The short-range views taken, in order.
     pub views: Vec<AcquiredView>,
     /// Viewpoints that failed.

@@ -19,8 +19,7 @@
 //! kept only if `F` fell, else the damping grows. Each solve after a run's first starts
 //! at the damping of the last step taken (a stage starts where the last one ended; from
 //! the first solve's damping every later stage spent five or more rejected steps
-//! climbing back to it on the paper's Table II case), except the first along the rays,
-//! which starts afresh as a run started there does. It stops converged when a step would
+//! climbing back to it on the paper's Table II case). It stops converged when a step would
 //! turn no view by more than `rotation_tolerance` and move no view's centroid by more than
 //! `translation_tolerance`, whatever the damping that shortened it, without evaluating
 //! that step (it could move the poses by less than the tolerance; the data term is
@@ -30,20 +29,13 @@
 //! or at `max_iterations` accepted steps (a safety net).
 //!
 //! The stages: each re-selects the points that take part (those matched at the current
-//! poses) and solves again, until no view moves. With
-//! [`MapParams::along_rays`](super::MapParams::along_rays) the first stages match nearest
-//! points and, once they have converged, the next ones match along the camera's rays from
-//! there: nearest matching captures a view from farther off, matching along the rays
-//! removes the bias it leaves on curved objects (at three and five times the paper scenes'
-//! errors, matching along the rays from the start left 2 of 60 registrations of Table III
-//! above 0.3× of their error as acquired, and one over 10 mm; from the nearest points'
-//! solution none). The rays' stages may run up to `max_stages` again: that is most of the
-//! ~1.6× time the option costs. A run that starts near its solution
-//! ([`register_prepared_from`](super::register_prepared_from), started where an earlier
-//! run ended: the pipeline's refinement of each object's final registration) has nothing
-//! left to capture and with
-//! [`MapParams::rays_from_start`](super::MapParams::rays_from_start) matches along the
-//! rays from its first stage.
+//! poses) and solves again, until no view moves. Points are matched to their nearest
+//! target points, or with [`MapParams::along_rays`](super::MapParams::along_rays) where
+//! the camera's viewing rays cross the target's surface: nearest matching captures a view
+//! from farther off, matching along the rays removes the bias nearest matching leaves on
+//! curved objects. The pipeline therefore matches nearest points first and refines each
+//! object's final registration along the rays, started where it ended
+//! ([`register_prepared_from`](super::register_prepared_from)).
 //!
 //! Acceptance: every view's correction must pass the χ² gate of its prior (6 degrees of
 //! freedom); the view farthest beyond it is held at its prior and the rest solved again,
@@ -119,10 +111,7 @@ pub(crate) fn run(
         cap: map.outlier_sigmas,
         floor: map.floor_sigma,
         max_distance: params.max_correspondence_distance,
-        // Matching along the rays refines: the first stages match nearest points, which
-        // capture a view from farther off (see the loop below), unless the run starts near
-        // its solution.
-        along_rays: map.along_rays && map.rays_from_start,
+        along_rays: map.along_rays,
     };
     let reference = params.reference;
     let pairs = select_pairs(
@@ -204,14 +193,6 @@ pub(crate) fn run(
         });
         corrections = state.corrections.clone();
         if !moved || stages == map.max_stages || stop != StopReason::Converged {
-            if map.along_rays && !problem.kernel.along_rays && stop == StopReason::Converged {
-                // Converged by nearest points: refine along the camera's rays from there,
-                // as a run started there would (from the first damping: a new objective).
-                problem.kernel.along_rays = true;
-                stages = 0;
-                lambda = LAMBDA_START;
-                continue;
-            }
             break (state, stop);
         }
     };

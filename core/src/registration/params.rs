@@ -120,8 +120,10 @@ pub struct MapParams {
     /// the view keeps its reported pose.
     pub gate_chi2: f64,
     /// Terms between non-reference views too (both ways, half weight each), not only
-    /// each view into the reference. Off for the pipeline's camera views: at their
-    /// centimetre noise, view-to-view point-to-point terms pull registrations off (on the
+    /// each view into the reference. Default true: views registered among themselves
+    /// (`nbv register`) need them where a view does not overlap the reference. The
+    /// pipeline turns them off: its camera views go into the laser cluster alone, since at
+    /// the camera's centimetre noise view-to-view terms pull registrations off (on the
     /// paper scenes' objects they leave 4–5 mm where the views into the laser cluster
     /// alone leave 1.3–2.3 mm).
     pub view_to_view: bool,
@@ -132,18 +134,11 @@ pub struct MapParams {
     /// Match each point where its viewing ray crosses the target's surface rather than to
     /// the nearest target point (projective association): a camera point displaced along
     /// its ray by the noise finds, on a curved target, a nearest point whose plane tilts
-    /// towards it, and the view settles short of the truth. The stages first match
-    /// nearest points until they converge (which captures a view from farther off), then
-    /// go on along the rays from there. Default false (nearest points only): it lowers the
-    /// alignment error in Table III and on held-out seeds but costs ~1.6× the
-    /// registration's time (benches/README, "What limits a camera view's registration").
+    /// towards it, and the view settles short of the truth. Nearest points capture a view
+    /// from farther off, so a run matching along the rays should start near its solution:
+    /// the pipeline refines each object's final registration this way, started where it
+    /// ended ([`register_prepared_from`](super::register_prepared_from)). Default false.
     pub along_rays: bool,
-    /// With `along_rays`, match along the rays from the first stage, without the nearest
-    /// points' stages: for a run that starts near its solution, where nothing is left to
-    /// capture (the pipeline's refinement of each object's final registration, started
-    /// where it ended: [`register_prepared_from`](super::register_prepared_from)). Default
-    /// false.
-    pub rays_from_start: bool,
 }
 
 impl Default for MapParams {
@@ -162,7 +157,6 @@ impl Default for MapParams {
             pair_points: 600,
             surface_neighbours: 16,
             along_rays: false,
-            rays_from_start: false,
         }
     }
 }
