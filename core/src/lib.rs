@@ -12,6 +12,7 @@
 //! - a pose `T_a_b` maps coordinates in frame `b` to frame `a`.
 
 pub mod atomic_file;
+pub mod calibration;
 pub mod cloud;
 pub mod evaluation;
 pub mod kinematics;

@@ -4,10 +4,10 @@
 
 use crate::error::{Problem, SceneError};
 use crate::scene::Scene;
+use nbv_core::calibration::PoseUncertainty;
 use nbv_core::kinematics::Joints;
-use nbv_core::pipeline::{
-    ExploreConfig, ExploreMode, PoseUncertainty, SURVEY_HEIGHT, SURVEY_SPACING, TableFilter,
-};
+use nbv_core::perception::TableFilter;
+use nbv_core::pipeline::{ExploreConfig, ExploreMode, SURVEY_HEIGHT, SURVEY_SPACING};
 use nbv_core::planning::{Obstacle, ObstacleShape, PlannerConfig};
 use nbv_core::registration::{MapParams, PosePrior, RangeNoise, RegistrationParams};
 

@@ -295,7 +295,7 @@ pub struct WorkcellEntry {
 #[derive(Debug, Clone, Serialize)]
 pub struct HandEyeEntry {
     /// The estimate (sensor frame): rotation vector (rad), translation (m), σ, views.
-    pub estimate: nbv_core::pipeline::HandEyeEstimate,
+    pub estimate: nbv_core::calibration::HandEyeEstimate,
     /// What the estimate estimates: the twin's injected hand-eye error with the last
     /// joint's injected offset folded in (that joint turns the camera like the mount does,
     /// so no calibration can tell the two apart): rotation vector (rad) and translation
@@ -826,11 +826,11 @@ fn config_json(scene: &Scene, config: &ExploreConfig) -> serde_json::Value {
 
 /// The hand-eye estimate beside the scene's injected error (the twin's truth), with the
 /// last joint's offset folded into the mount as the estimate has it
-/// ([`identifiable_mount`](nbv_core::pipeline::identifiable_mount)); the comparisons
+/// ([`identifiable_mount`](nbv_core::calibration::identifiable_mount)); the comparisons
 /// with that are `None` where the robot's model does not load.
 fn hand_eye_entry(
     scene: &Scene,
-    estimate: &nbv_core::pipeline::HandEyeEstimate,
+    estimate: &nbv_core::calibration::HandEyeEstimate,
     exploration: &Exploration,
 ) -> HandEyeEntry {
     let (xyz, rpy) = scene.errors.scaled_hand_eye();
@@ -840,7 +840,7 @@ fn hand_eye_entry(
     let frame = &scene.sensors.short_range.frame;
     let folded = robot
         .as_ref()
-        .and_then(|r| nbv_core::pipeline::identifiable_mount(r, frame, &mount, offsets));
+        .and_then(|r| nbv_core::calibration::identifiable_mount(r, frame, &mount, offsets));
     // A pose as a rotation vector (rad) and a translation (m).
     let six = |p: &Pose| {
         let (w, t) = (p.rotation.scaled_axis(), p.translation.vector);
@@ -860,7 +860,7 @@ fn hand_eye_entry(
         .zip(folded.as_ref())
         .and_then(|(r, (truth, rest))| {
             let [wx, wy, wz, tx, ty, tz] = six(truth);
-            let injected = nbv_core::pipeline::HandEyeEstimate {
+            let injected = nbv_core::calibration::HandEyeEstimate {
                 rotation: [wx, wy, wz],
                 translation: [tx, ty, tz],
                 joint_offsets: *rest,
@@ -891,8 +891,8 @@ fn hand_eye_entry(
 fn view_errors(
     robot: &nbv_core::kinematics::Robot,
     frame: &str,
-    estimate: &nbv_core::pipeline::HandEyeEstimate,
-    injected: &nbv_core::pipeline::HandEyeEstimate,
+    estimate: &nbv_core::calibration::HandEyeEstimate,
+    injected: &nbv_core::calibration::HandEyeEstimate,
     exploration: &Exploration,
 ) -> Option<([f64; 2], [f64; 2])> {
     let (mut rotations, mut translations) = (Vec::new(), Vec::new());

@@ -19,6 +19,7 @@ mod phase_one;
 mod segmentation;
 mod segmentation_params;
 mod stacked_parts;
+mod table_filter;
 mod thin_parts;
 mod workcell_alignment;
 
@@ -29,5 +30,6 @@ pub use phase_one::{PhaseOne, PhaseOneConfig, PhaseOneMap, build_map, phase_one}
 pub use segmentation::{ObjectSegmentation, SegmentationCounts, segment_objects};
 pub use segmentation_params::SegmentationParams;
 pub use stacked_parts::merge_stacked_parts;
+pub use table_filter::TableFilter;
 pub use thin_parts::merge_bridged_parts;
 pub use workcell_alignment::{WorkcellAlignment, align_to_workcell};

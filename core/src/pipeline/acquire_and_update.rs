@@ -6,7 +6,8 @@
 //! space.
 
 use super::step_timer::timed;
-use super::{ExplorationMap, ExploreConfig, ObjectRegion, PipelineError, StepTimes, TableEvidence};
+use super::{ExplorationMap, ExploreConfig, ObjectRegion, PipelineError, StepTimes};
+use crate::calibration::TableEvidence;
 use crate::cloud::{PlaneFit, PointCloud};
 use crate::kinematics::Joints;
 use crate::math::Pose;

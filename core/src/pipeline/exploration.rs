@@ -3,14 +3,14 @@
 
 use super::ExplorationMap;
 use super::episode::Episode;
-use super::hand_eye::estimate_hand_eye;
 use super::object_loop::explore_object;
 use super::register_views::{refine_along_rays, register_calibrated, register_object};
 use super::step_timer::timed;
 use super::{
-    Exploration, ExploreConfig, ExploreEvent, ExploreMode, ExploreObserver, HandEyeEstimate,
-    ObjectExploration, ObjectRegion, ObjectStop, PipelineError, StepTimes,
+    Exploration, ExploreConfig, ExploreEvent, ExploreMode, ExploreObserver, ObjectExploration,
+    ObjectRegion, ObjectStop, PipelineError, StepTimes,
 };
+use crate::calibration::{HandEyeEstimate, estimate_hand_eye};
 use crate::nbv::NextBestView;
 use crate::registration::MapPreparation;
 use crate::rig::Rig;

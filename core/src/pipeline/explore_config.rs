@@ -86,14 +86,14 @@ pub struct ExploreConfig {
     pub align_to_workcell: bool,
     /// Estimate the depth camera's hand-eye correction and the joint offsets from every
     /// object's registration and each view's table evidence
-    /// ([`TableEvidence`](super::TableEvidence)), and register each object again from the
-    /// calibrated poses ([`estimate_hand_eye`](super::estimate_hand_eye)).
+    /// ([`TableEvidence`](crate::calibration::TableEvidence)), and register each object again from the
+    /// calibrated poses ([`estimate_hand_eye`](crate::calibration::estimate_hand_eye)).
     pub calibrate_hand_eye: bool,
     /// Register each object by the paper's p-ICP-GPA and sequential ICP too, beside the
     /// model's MAP registration (for comparison only: the model does not use them).
     pub registration_baselines: bool,
     /// The sensors' noise and pose uncertainty: the MAP registration's weights and priors.
-    pub uncertainty: super::PoseUncertainty,
+    pub uncertainty: crate::calibration::PoseUncertainty,
     /// Points per view kept for registration (views are subsampled evenly); 0 keeps all.
     pub registration_points: usize,
     /// Largest correction the paper's p-ICP-GPA and sequential ICP may apply to a view's
@@ -105,7 +105,7 @@ pub struct ExploreConfig {
     pub object_margin: f64,
     /// Takes the table out of each short-range view before it joins the object's model
     /// (the noise model of the camera); `None` keeps every point above the region's floor.
-    pub table_filter: Option<super::TableFilter>,
+    pub table_filter: Option<crate::perception::TableFilter>,
     /// Seed of every random choice the pipeline makes (the planner's samples).
     pub seed: u64,
 }

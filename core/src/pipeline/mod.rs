@@ -19,19 +19,16 @@ mod exploration;
 mod exploration_map;
 mod explore_config;
 mod explore_event;
-mod hand_eye;
 mod object_crop;
 mod object_loop;
 mod phase_one;
 mod pipeline_error;
 mod plan_and_execute;
-mod pose_uncertainty;
 mod register_views;
 mod results;
 mod step_timer;
-mod table_evidence;
-mod table_filter;
 
+pub use acquire_and_update::REGISTRATION_SMOOTHING;
 pub use candidates::{
     ObjectSurface, ViewCandidates, object_surface_score, view_candidates, viewing_centre,
 };
@@ -39,16 +36,12 @@ pub use exploration::explore;
 pub use exploration_map::ExplorationMap;
 pub use explore_config::{ExploreConfig, ExploreMode, SURVEY_HEIGHT, SURVEY_SPACING};
 pub use explore_event::{ExploreEvent, ExploreObserver, NoObserver};
-pub use hand_eye::{HandEyeEstimate, estimate_hand_eye, identifiable_mount};
 pub use object_crop::ObjectRegion;
 pub use phase_one::run_phase_one;
 pub use pipeline_error::PipelineError;
 pub use plan_and_execute::{goals_at, plan_clearing_start};
-pub use pose_uncertainty::PoseUncertainty;
 pub use register_views::sweep_free_space;
 pub use results::{
     AcquiredView, Exploration, ObjectExploration, ObjectRegistration, ObjectStop, PhaseOneReport,
     StepTimes, ViewFailure,
 };
-pub use table_evidence::TableEvidence;
-pub use table_filter::TableFilter;

@@ -1,12 +1,11 @@
-//! Register (Figure 2, the last step): each object's phase-1 cluster (the reference; or
-//! its laser points as measured) and its views, by the MAP registration (the model's) with
+//! Register (Figure 2, the last step): each object's phase-1 cluster (the reference) and
+//! its views, by the MAP registration (the model's) with
 //! the rig's pose uncertainty, and (unless turned off) by the paper's p-ICP-GPA and
 //! sequential ICP beside it, from the same input; and again, MAP only, with every view's
 //! prior centred on the rig's self-calibration.
 
-use super::{
-    ExploreConfig, HandEyeEstimate, ObjectExploration, ObjectRegistration, PoseUncertainty,
-};
+use super::{ExploreConfig, ObjectExploration, ObjectRegistration};
+use crate::calibration::{HandEyeEstimate, PoseUncertainty};
 use crate::cloud::PointCloud;
 use crate::kinematics::Robot;
 use crate::math::Pose;
@@ -192,7 +191,7 @@ pub(super) fn register_calibrated(
             return Ok(false);
         };
         let origin = nalgebra::Point3::from(view.sensor_pose.translation.vector);
-        initial[k] = super::hand_eye::correction_pose(&xi, &origin);
+        initial[k] = crate::calibration::correction_pose(&xi, &origin);
         let noise = uncertainty.view_noise;
         own[k] = PosePrior {
             rotation_sigma: noise.rotation_sigma.hypot(sigma.rotation_sigma),

@@ -111,7 +111,7 @@ pub struct AcquiredView {
     pub gain: InformationGain,
     /// What the table around the object tells about the view's pose (the
     /// self-calibration's evidence beside the registration), when it is used.
-    pub table: Option<super::TableEvidence>,
+    pub table: Option<crate::calibration::TableEvidence>,
     /// The planned path's statistics.
     pub plan: PlanStats,
     /// Viewpoints tried before this one succeeded (failures since the previous view).
@@ -167,7 +167,7 @@ pub struct ObjectRegistration {
     pub map: Registration,
     /// The initial poses of the MAP registration (corrections of the reported poses in
     /// the world frame): the identity in the first pass, the rig's self-calibration
-    /// ([`HandEyeEstimate`](super::HandEyeEstimate)) in a calibrated pass.
+    /// ([`HandEyeEstimate`](crate::calibration::HandEyeEstimate)) in a calibrated pass.
     pub map_initial: Vec<crate::math::Pose>,
     /// Whether [`map`](Self::map) is a calibrated pass (its priors centred on the
     /// self-calibrated poses).
@@ -298,5 +298,5 @@ pub struct Exploration {
     /// Collisions the rig reported while executing planned paths.
     pub collisions: usize,
     /// The depth camera's hand-eye correction estimated from all objects' registrations.
-    pub hand_eye: Option<super::HandEyeEstimate>,
+    pub hand_eye: Option<crate::calibration::HandEyeEstimate>,
 }

@@ -1,78 +1,62 @@
-//! Global registration of an object's views (paper §III-B, Figure 4): p-ICP-GPA, and the
-//! sequential pairwise ICP baseline it is compared against.
+//! Registration of an object's views (the paper's §III-B, Figure 4): every view's pose
+//! refined so that the views agree with each other and with the reference view.
 //!
 //! Input: the views as [`PointCloud`]s, each in its own (sensor) frame, and an initial
-//! pose per view (view frame → world frame, e.g. the sensor poses the robot reported).
-//! Output: a [`Registration`] with the refined pose of each view (view → world), where the
-//! reference view keeps its initial pose and every other view is placed relative to it,
-//! plus a report; [`Registration::merged`] builds the model cloud. [`Method`] switches
-//! between the algorithms with the same input and output; [`align`] registers a single
-//! pair. Parameters and results are serde types, ready for scene files and JSON reports.
+//! pose per view (view frame → world frame: the sensor poses the robot reported). Output: a
+//! [`Registration`] with the refined pose of each view, the reference view keeping its
+//! initial pose, and a report; [`Registration::merged`] builds the model cloud. One call,
+//! [`register`] (or [`register_with_models`] with each view's noise and pose prior), runs
+//! any of three methods on the same input ([`Method`]):
 //!
-//! p-ICP-GPA, as implemented here:
-//! - one k-d tree per view, built once in the view's own frame; queries are moved by the
-//!   current pose estimates, trees are never rebuilt;
-//! - correspondences are mutual nearest neighbours between every pair of views within
-//!   `d_max`, recomputed every iteration;
-//! - **independent sets** ([`SetRule::Cliques`], default) are the connected components of
-//!   the mutual-nearest-neighbour graph that are complete graphs — every member is the
-//!   mutual nearest neighbour of every other, as the paper defines them. Since a point has
-//!   at most one mutual nearest neighbour per view, such a set holds at most one point
-//!   per view, and at least two. Incomplete components are dropped whole;
-//!   [`SetRule::Components`] keeps every component with at most one point per view;
-//! - each view gets the rigid transform (SVD Procrustes with reflection guard,
-//!   [`rigid_procrustes`]) moving its set members onto the set centroids;
-//! - **convergence**: the mean squared distance of the set members to their centroid is
-//!   measured after every correspondence search; the run stops when its relative change
-//!   since the previous search (or the one before, which catches a two-state cycle of
-//!   correspondences) is at most `tolerance`, or after `max_iterations` searches. Between
-//!   searches, generalised Procrustes alternates fits and centroids on the fixed sets until
-//!   the same criterion holds (at most `max_inner_iterations` fits). The run also stops
-//!   when such an update would turn no view by more than `rotation_tolerance` and move no
-//!   view's point centroid by more than `translation_tolerance` relative to the reference
-//!   view (the poses before that negligible update are returned). The report gives the
-//!   iterations, the final RMS, the number of independent sets and whether it converged;
-//!   views that do not overlap give a reported non-convergence, never made-up poses.
+//! 1. **The MAP registration** ([`Method::Map`], `map/`), which makes the pipeline's
+//!    models: a maximum a posteriori estimate of every view's pose, the reference (the
+//!    laser cluster) fixed. Each camera point is matched into the reference, its residual
+//!    weighted by both sensors' range noise along their rays ([`RangeNoise`]), point-to-
+//!    plane where the target's plane is well determined, under a truncated Cauchy kernel;
+//!    a point beyond the reference's edge is judged by where the laser saw empty space
+//!    ([`FreeSpace`]), and a reference point beyond a camera view's edge by where the
+//!    camera did ([`DepthImageFreeSpace`]). Each view's correction has a prior from the
+//!    robot's pose uncertainty ([`PosePrior`]); Levenberg–Marquardt solves all views at
+//!    once, and a view whose correction fails its prior's χ² gate keeps its reported pose.
+//!    Points are matched to their nearest target points, or where the camera's rays cross
+//!    the target ([`MapParams::along_rays`]): the pipeline registers by nearest points and
+//!    refines each object's final registration along the rays. A [`MapPreparation`] keeps
+//!    the views' trees and surface elements for later runs on the same views.
+//! 2. **p-ICP-GPA** ([`Method::Gpa`], `gpa/`), the paper's method: mutual nearest
+//!    neighbours between every pair of views, independent sets ([`SetRule`]), and
+//!    generalised Procrustes of every view onto the sets' centroids.
+//! 3. **Sequential ICP** ([`Method::SequentialIcp`], `icp/`), the baseline the paper
+//!    compares with: pairwise ICP chained outward from the reference; [`align`] registers
+//!    a single pair.
 //!
-//! Accuracy: with views that sample the surface independently, point-to-point
-//! correspondences are off by a fraction of the point spacing, and that sets the floor
-//! (about 0.5–1 mm on an 8 cm object sampled every 2–2.5 mm, see the tests). Convergence
-//! from centimetre errors takes tens to a few hundred iterations, since point-to-point
-//! steps slide slowly along smooth surfaces.
+//! What they share sits here: the parameters ([`RegistrationParams`]), the report, the
+//! errors, the views' k-d trees and nearest-neighbour caches, normals, Procrustes and the
+//! merge. The pipeline builds each object's model with the MAP registration; it runs
+//! p-ICP-GPA and sequential ICP beside it for comparison (`[registration] baselines`).
 //!
 //! Everything that runs in parallel (rayon: over points, sets and views) collects in
 //! index order and reduces sequentially, so results are bit-identical at any thread
 //! count.
 
-mod depth_image_free_space;
 mod error;
-mod free_space;
 mod gpa;
 mod icp;
-mod independent_sets;
 mod map;
-mod map_correspondences;
-mod map_preparation;
-mod map_terms;
-mod map_view;
 mod merge;
-mod mutual_neighbours;
 mod nearest_cache;
 mod neighbour_graph;
 mod normals;
 mod params;
 mod procrustes;
 mod report;
-mod sequential_icp;
-mod set_moments;
-mod view_model;
 mod view_tree;
 
-pub use depth_image_free_space::DepthImageFreeSpace;
 pub use error::RegistrationError;
-pub use free_space::FreeSpace;
 pub use icp::align;
-pub use map_preparation::MapPreparation;
+pub use map::depth_image_free_space::DepthImageFreeSpace;
+pub use map::free_space::FreeSpace;
+pub use map::preparation::MapPreparation;
+pub use map::view_model::{PosePrior, RangeNoise, ViewModel};
 pub use normals::estimate_normals;
 pub use params::{IcpParams, MapParams, Method, RegistrationParams, SetRule};
 pub use procrustes::rigid_procrustes;
@@ -80,7 +64,6 @@ pub use report::{
     GpaReport, IcpReport, MapReport, MapViewReport, MethodReport, PairReport, Registration,
     SequentialIcpReport, StopReason,
 };
-pub use view_model::{PosePrior, RangeNoise, ViewModel};
 
 use crate::cloud::PointCloud;
 use crate::math::Pose;
@@ -194,7 +177,7 @@ pub fn register_with_models(
         }
         Method::Gpa => gpa::run(views, initial_poses, params),
         Method::SequentialIcp { point_to_plane } => {
-            sequential_icp::run(views, initial_poses, params, point_to_plane)
+            icp::sequential::run(views, initial_poses, params, point_to_plane)
         }
     }
 }

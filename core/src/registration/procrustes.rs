@@ -14,7 +14,7 @@ use crate::math::Pose;
 /// Singular value ratio s₂/s₁ below which the correspondences count as collinear.
 const DEGENERATE_RATIO: f64 = 1e-9;
 
-/// The rigid transform `T` minimising Σ |T·source[k] − target[k]|².
+/// The rigid transform `T` minimising Σ |T·source\[k\] − target\[k\]|².
 ///
 /// Needs at least three pairs that are not collinear; equal lengths.
 ///
@@ -59,7 +59,7 @@ pub(crate) fn fit_pairs(
 }
 
 /// Running sums for a rigid fit, pair by pair or given whole (p-ICP-GPA's
-/// [`SetMoments`](super::set_moments::SetMoments)). Coordinates are shifted by a fixed pair
+/// [`SetMoments`](super::gpa::set_moments::SetMoments)). Coordinates are shifted by a fixed pair
 /// (`x0`, `c0`) close to the data to keep the one-pass sums well conditioned.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct CrossCovariance {

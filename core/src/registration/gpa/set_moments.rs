@@ -22,9 +22,9 @@ use nalgebra::{Matrix3, Point3, Vector3};
 use rayon::prelude::*;
 
 use super::independent_sets::IndependentSets;
-use super::procrustes::CrossCovariance;
-use super::view_tree::ViewTree;
 use crate::math::Pose;
+use crate::registration::procrustes::CrossCovariance;
+use crate::registration::view_tree::ViewTree;
 
 /// Sets per parallel work item.
 const CHUNK: usize = 512;
@@ -223,8 +223,8 @@ impl SetMoments {
 
 #[cfg(test)]
 mod tests {
+    use super::super::mutual_neighbours::ViewLayout;
     use super::*;
-    use crate::registration::mutual_neighbours::ViewLayout;
     use nalgebra::{Isometry3, Vector3};
     use proptest::prelude::*;
 

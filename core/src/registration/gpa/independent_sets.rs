@@ -23,9 +23,9 @@
 
 use rayon::prelude::*;
 
-use super::SetRule;
 use super::mutual_neighbours::ViewLayout;
-use super::nearest_cache::NONE;
+use crate::registration::SetRule;
+use crate::registration::nearest_cache::NONE;
 
 /// Nodes per parallel work item.
 const CHUNK: usize = 1024;

@@ -13,7 +13,7 @@ use crate::registration::{PosePrior, RangeNoise, ViewModel};
 /// The rig's sensor noise and pose uncertainty (per-component σ; see [`PosePrior`]).
 ///
 /// ```
-/// use nbv_core::pipeline::PoseUncertainty;
+/// use nbv_core::calibration::PoseUncertainty;
 /// use nbv_core::registration::{PosePrior, RangeNoise};
 /// let u = PoseUncertainty {
 ///     laser_noise: RangeNoise::constant(0.002),

@@ -68,13 +68,13 @@ use std::cell::OnceCell;
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Point3, Vector3, Vector6};
 use rayon::prelude::*;
 
-use super::map_correspondences::PairNearest;
-use super::map_view::MapView;
-use super::nearest_cache::Updated;
-use super::nearest_cache::matrix;
-#[cfg(doc)]
-use super::{DepthImageFreeSpace, FreeSpace, MapParams};
+use super::correspondences::PairNearest;
+use super::view::MapView;
 use crate::math::Pose;
+use crate::registration::nearest_cache::Updated;
+use crate::registration::nearest_cache::matrix;
+#[cfg(doc)]
+use crate::registration::{DepthImageFreeSpace, FreeSpace, MapParams};
 
 /// A viewing ray is followed to the target's plane only where it meets it at more than
 /// this cosine of the normal (≈ 17° from grazing): nearer the plane the crossing runs off.
@@ -317,7 +317,7 @@ pub(crate) fn evaluate(
 ) -> DataTerm {
     // Each work item brings a chunk of a pair's correspondences up to date and sums its
     // terms at once, on the same thread.
-    let work = super::map_correspondences::begin_update(nearest, views, pairs, poses);
+    let work = super::correspondences::begin_update(nearest, views, pairs, poses);
     let items: Vec<usize> = work.iter().map(|(p, _)| *p).collect();
     let sums: Vec<Sums> = work
         .into_par_iter()

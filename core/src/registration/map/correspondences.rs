@@ -1,16 +1,16 @@
 //! [`PairNearest`]: the nearest target point of every used source point of one pair of
 //! the MAP registration, kept from one evaluation of the data term to the next in a
-//! [`NearestCache`] (super::nearest_cache::NearestCache). Levenberg–Marquardt moves the
+//! [`NearestCache`] (crate::registration::nearest_cache::NearestCache). Levenberg–Marquardt moves the
 //! views by less and less, so most answers are proved unchanged without a k-d tree
 //! search, while every answer stays the one a fresh search would give: the objective is
 //! still a function of the poses alone.
 
 use nalgebra::Point3;
 
-use super::map_terms::Pair;
-use super::map_view::MapView;
-use super::nearest_cache::{NearestCache, UpdateChunk};
+use super::terms::Pair;
+use super::view::MapView;
 use crate::math::Pose;
+use crate::registration::nearest_cache::{NearestCache, UpdateChunk};
 
 /// One pair's used source points (source frame) and their nearest target points.
 #[derive(Clone)]

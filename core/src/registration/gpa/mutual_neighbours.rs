@@ -14,9 +14,9 @@
 
 use rayon::prelude::*;
 
-use super::nearest_cache::{CHUNK, NONE, NearestCache};
-use super::view_tree::ViewTree;
 use crate::math::Pose;
+use crate::registration::nearest_cache::{CHUNK, NONE, NearestCache};
+use crate::registration::view_tree::ViewTree;
 
 /// Global numbering of the points of several views.
 #[derive(Debug, Clone)]

@@ -30,9 +30,10 @@
 use nalgebra::{Matrix3, Matrix6, Point3, SMatrix, SVector, Translation3, UnitQuaternion, Vector6};
 use serde::Serialize;
 
-use super::{ObjectExploration, PoseUncertainty};
+use super::PoseUncertainty;
 use crate::kinematics::{Joints, Robot};
 use crate::math::Pose;
+use crate::pipeline::ObjectExploration;
 use crate::registration::{MethodReport, PosePrior};
 
 /// Parameters of the calibration: hand-eye (6) then joint offsets (6).
@@ -167,7 +168,7 @@ fn mount_joint(robot: &Robot, frame: &str) -> Option<(usize, Vector6<f64>)> {
 /// ```
 /// use nbv_core::kinematics::{comau_smart_six, Joints};
 /// use nbv_core::math::Pose;
-/// use nbv_core::pipeline::identifiable_mount;
+/// use nbv_core::calibration::identifiable_mount;
 /// let robot = comau_smart_six()?;
 /// let offsets = [0.001, 0.0, 0.0, 0.0, 0.0, 0.002];
 /// let (mount, rest) = identifiable_mount(&robot, "dinast", &Pose::identity(), offsets).unwrap();

@@ -6,13 +6,13 @@
 
 use rayon::prelude::*;
 
-use super::icp::{IcpTarget, icp};
-use super::{
+use super::{IcpTarget, icp};
+use crate::cloud::PointCloud;
+use crate::math::Pose;
+use crate::registration::{
     MethodReport, PairReport, Registration, RegistrationError, RegistrationParams,
     SequentialIcpReport,
 };
-use crate::cloud::PointCloud;
-use crate::math::Pose;
 
 /// Runs sequential ICP on checked input.
 pub(crate) fn run(

@@ -3,15 +3,15 @@
 //! al. 2012, with the noise and prior terms of `facts/registration.md`).
 //!
 //! The objective is `F = Σ_pairs weight·ρ(data) + Σ_views ½·ξᵀ Λ ξ`:
-//! - the data term ([`map_terms`](super::map_terms)): every point of a non-reference view
+//! - the data term ([`terms`]): every point of a non-reference view
 //!   matched into the reference view (one way) and into each overlapping other view (both
 //!   ways, half weight each), residuals weighted by both sensors' range noise along their
 //!   rays, point-to-plane where the target's plane is well determined, a Cauchy kernel
 //!   scaled to σ and truncated; points beyond the reference's edge judged by the laser's
 //!   free space where the preparation has it
-//!   ([`MapPreparation::with_free_space`](super::MapPreparation::with_free_space));
+//!   ([`MapPreparation::with_free_space`](crate::registration::MapPreparation::with_free_space));
 //! - the prior: each view's correction `ξ = (ω, t)` about its sensor origin, weighted by
-//!   the information of its [`PosePrior`](super::PosePrior). Directions the geometry does
+//!   the information of its [`PosePrior`](crate::registration::PosePrior). Directions the geometry does
 //!   not observe (the rotation about a bottle's axis) stay at the prior.
 //!
 //! Levenberg–Marquardt over all free views at once: each step solves the damped normal
@@ -30,12 +30,12 @@
 //!
 //! The stages: each re-selects the points that take part (those matched at the current
 //! poses) and solves again, until no view moves. Points are matched to their nearest
-//! target points, or with [`MapParams::along_rays`](super::MapParams::along_rays) where
+//! target points, or with [`MapParams::along_rays`](crate::registration::MapParams::along_rays) where
 //! the camera's viewing rays cross the target's surface: nearest matching captures a view
 //! from farther off, matching along the rays removes the bias nearest matching leaves on
 //! curved objects. The pipeline therefore matches nearest points first and refines each
 //! object's final registration along the rays, started where it ended
-//! ([`register_prepared_from`](super::register_prepared_from)).
+//! ([`register_prepared_from`](crate::registration::register_prepared_from)).
 //!
 //! Acceptance: every view's correction must pass the χ² gate of its prior (6 degrees of
 //! freedom); the view farthest beyond it is held at its prior and the rest solved again,
@@ -43,21 +43,29 @@
 //! (left at the prior), and whether the objective fell. Chunked sums in a fixed order make
 //! the result identical at any thread count.
 
+pub(crate) mod correspondences;
+pub(crate) mod depth_image_free_space;
+pub(crate) mod free_space;
+pub(crate) mod preparation;
+pub(crate) mod terms;
+pub(crate) mod view;
+pub(crate) mod view_model;
+
 use nalgebra::{DMatrix, DVector, Matrix6, Point3, Translation3, UnitQuaternion, Vector6};
 use rayon::prelude::*;
 
 use std::sync::Mutex;
 
-use super::map_correspondences::PairNearest;
-use super::map_preparation::{CacheKey, MapPreparation};
-use super::map_terms::{self, DataTerm, Kernel, Pair};
-use super::map_view::MapView;
-use super::{
+use crate::cloud::PointCloud;
+use crate::math::Pose;
+use crate::registration::{
     MapReport, MapViewReport, MethodReport, Registration, RegistrationError, RegistrationParams,
     StopReason, ViewModel,
 };
-use crate::cloud::PointCloud;
-use crate::math::Pose;
+use correspondences::PairNearest;
+use preparation::{CacheKey, MapPreparation};
+use terms::{DataTerm, Kernel, Pair};
+use view::MapView;
 
 /// Source points sampled per pair for the overlap test.
 const OVERLAP_SAMPLES: usize = 200;
@@ -360,7 +368,7 @@ impl Problem<'_> {
             .zip(&self.origins)
             .map(|(c, o)| c * o)
             .collect();
-        map_terms::evaluate(
+        terms::evaluate(
             self.views,
             &self.pairs,
             nearest,

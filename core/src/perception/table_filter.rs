@@ -29,7 +29,7 @@ const FOOT_SUPPORT: usize = 3;
 ///
 /// ```
 /// use nbv_core::cloud::{PlaneFit, PointCloud};
-/// use nbv_core::pipeline::TableFilter;
+/// use nbv_core::perception::TableFilter;
 /// use nalgebra::{Point3, Unit, Vector3};
 /// // The table z = 0.25, seen from 0.3 m straight above; σ = 0.04 m at 1 m, so 12 mm here.
 /// let table = PlaneFit { normal: Unit::new_normalize(Vector3::z()), offset: -0.25, inliers: vec![], rms: 0.0 };
@@ -76,7 +76,7 @@ impl TableFilter {
     /// [`FOOT_HEIGHT`](Self::FOOT_HEIGHT), [`FOOT_RADIUS`](Self::FOOT_RADIUS).
     ///
     /// ```
-    /// let f = nbv_core::pipeline::TableFilter::for_camera(0.04 / 8f64.sqrt(), 1.0);
+    /// let f = nbv_core::perception::TableFilter::for_camera(0.04 / 8f64.sqrt(), 1.0);
     /// assert_eq!((f.k, f.foot_height, f.foot_radius), (2.5, 0.02, 0.006));
     /// ```
     pub fn for_camera(sigma_at_1m: f64, exponent: f64) -> Self {

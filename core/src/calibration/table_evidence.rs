@@ -53,7 +53,7 @@ const MIN_POINTS: usize = 50;
 ///
 /// ```
 /// use nbv_core::cloud::PlaneFit;
-/// use nbv_core::pipeline::TableEvidence;
+/// use nbv_core::calibration::TableEvidence;
 /// use nbv_core::registration::RangeNoise;
 /// use nalgebra::{Point3, Unit, Vector3};
 /// // The table z = 0; the camera 0.4 m above it, its view 3 mm too high.

@@ -14,15 +14,15 @@ use std::sync::Mutex;
 
 use rayon::prelude::*;
 
-use super::map_correspondences::PairNearest;
-use super::map_view::{MapView, SeenEmpty};
-use super::{
-    DepthImageFreeSpace, FreeSpace, RangeNoise, RegistrationError, RegistrationParams, ViewModel,
-};
+use super::correspondences::PairNearest;
+use super::view::{MapView, SeenEmpty};
 use crate::cloud::PointCloud;
 use crate::math::Pose;
+use crate::registration::{
+    DepthImageFreeSpace, FreeSpace, RangeNoise, RegistrationError, RegistrationParams, ViewModel,
+};
 
-/// Views prepared for [`register_prepared`](super::register_prepared).
+/// Views prepared for [`register_prepared`](crate::registration::register_prepared).
 ///
 /// ```
 /// use nbv_core::cloud::PointCloud;
@@ -79,7 +79,7 @@ impl MapPreparation {
         params: &RegistrationParams,
     ) -> Result<Self, RegistrationError> {
         let poses = vec![Pose::identity(); clouds.len()];
-        super::check_input(clouds, &poses, models, params)?;
+        crate::registration::check_input(clouds, &poses, models, params)?;
         let k = params.map.surface_neighbours;
         let views = clouds
             .par_iter()

@@ -25,11 +25,11 @@ use rayon::prelude::*;
 
 use super::depth_image_free_space::DepthImageFreeSpace;
 use super::free_space::FreeSpace;
-use super::neighbour_graph::NeighbourGraph;
-use super::view_tree::ViewTree;
-use super::{RangeNoise, RegistrationError};
 use crate::cloud::{KNearest, PointCloud};
 use crate::math::symmetric_eigen3;
+use crate::registration::neighbour_graph::NeighbourGraph;
+use crate::registration::view_tree::ViewTree;
+use crate::registration::{RangeNoise, RegistrationError};
 
 /// Largest standard error (rad) of a surfel's normal for it to be used (≈ 8.6°).
 const MAX_NORMAL_ERROR: f64 = 0.15;

@@ -4,7 +4,7 @@
 //! Each outer iteration, at the current pose estimates:
 //! 1. mutual nearest neighbours between every pair of views within `d_max` (parallel over
 //!    points; one k-d tree per view, built once in the view's own frame);
-//! 2. independent sets from that graph ([`SetRule`](super::SetRule));
+//! 2. independent sets from that graph ([`SetRule`](crate::registration::SetRule));
 //! 3. the unweighted centroid of each set (parallel over sets) and the mean squared
 //!    distance of the members to their centroid (the residual);
 //! 4. stop if the residual's relative change since the previous iteration (or the one
@@ -26,20 +26,39 @@
 //! fixed: every pose is expressed relative to the reference view, which keeps its initial
 //! pose. Every reduction runs in a fixed order, so the result is identical at any thread
 //! count.
+//!
+//! **Independent sets** ([`SetRule::Cliques`](crate::registration::SetRule::Cliques),
+//! default) are the connected components of the mutual-nearest-neighbour graph that are
+//! complete graphs — every member the mutual nearest neighbour of every other, as the paper
+//! defines them. A point has at most one mutual nearest neighbour per view, so such a set
+//! holds at most one point per view, and at least two; incomplete components are dropped
+//! whole. [`SetRule::Components`](crate::registration::SetRule::Components) keeps every
+//! component with at most one point per view.
+//!
+//! **Accuracy**: with views that sample the surface independently, point-to-point
+//! correspondences are off by a fraction of the point spacing, and that sets the floor
+//! (about 0.5–1 mm on an 8 cm object sampled every 2–2.5 mm, see the tests). Convergence
+//! from centimetre errors takes tens to a few hundred iterations, since point-to-point
+//! steps slide slowly along smooth surfaces. Views that do not overlap give a reported
+//! non-convergence, never made-up poses.
+
+pub(crate) mod independent_sets;
+pub(crate) mod mutual_neighbours;
+pub(crate) mod set_moments;
 
 use nalgebra::{Point3, Vector3};
 use rayon::prelude::*;
 
-use super::independent_sets::{IndependentSets, find_independent_sets};
-use super::mutual_neighbours::{MutualSearch, ViewLayout};
-use super::set_moments::SetMoments;
-use super::view_tree::ViewTree;
-use super::{
+use crate::cloud::PointCloud;
+use crate::math::Pose;
+use crate::registration::view_tree::ViewTree;
+use crate::registration::{
     GpaReport, MethodReport, Registration, RegistrationError, RegistrationParams, SetRule,
     StopReason, settled,
 };
-use crate::cloud::PointCloud;
-use crate::math::Pose;
+use independent_sets::{IndependentSets, find_independent_sets};
+use mutual_neighbours::{MutualSearch, ViewLayout};
+use set_moments::SetMoments;
 
 /// Sets per parallel work item of the residual.
 const CHUNK: usize = 512;

@@ -1,7 +1,7 @@
 //! [`DepthImageFreeSpace`]: the space a depth camera saw to be empty — in front of each
 //! pixel's return — tested by projecting a point into the camera's depth image.
 //!
-//! It is the camera's counterpart of [`FreeSpace`](super::FreeSpace) (the laser sweep's
+//! It is the camera's counterpart of [`FreeSpace`](crate::registration::FreeSpace) (the laser sweep's
 //! rays marked in a grid): an organised depth image already says where every ray went, so
 //! the test is one projection and four pixel lookups, with nothing to build. A point is
 //! free when it lies in front of the camera and, at each of the four pixels around its
@@ -18,8 +18,8 @@ use std::sync::Arc;
 
 use nalgebra::Point3;
 
-use super::RegistrationError;
 use crate::math::Pose;
+use crate::registration::RegistrationError;
 
 /// Where a pinhole depth camera's rays passed before their returns.
 #[derive(Clone)]

@@ -23,8 +23,8 @@
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::{Point3, Vector3};
 
-use super::RegistrationError;
 use crate::cloud::PointCloud;
+use crate::registration::RegistrationError;
 
 /// The test radius of [`FreeSpace::of_scan`] per gap between neighbouring hits: a
 /// little over half, so that the samples of neighbouring rays cover the space between

@@ -12,17 +12,19 @@
 //! which catches a two-state cycle) is at most `tolerance`; the report always describes
 //! the returned pose.
 
+pub(crate) mod sequential;
+
 use std::num::NonZeroUsize;
 
 use nalgebra::{Matrix6, Point3, Vector3, Vector6};
 
-use super::nearest_cache::NearestCache;
-use super::normals::normals_of;
-use super::procrustes::fit_pairs;
-use super::view_tree::{ViewTree, check_pose, check_view};
-use super::{IcpParams, IcpReport, RegistrationError, StopReason, settled};
 use crate::cloud::PointCloud;
 use crate::math::Pose;
+use crate::registration::nearest_cache::NearestCache;
+use crate::registration::normals::normals_of;
+use crate::registration::procrustes::fit_pairs;
+use crate::registration::view_tree::{ViewTree, check_pose, check_view};
+use crate::registration::{IcpParams, IcpReport, RegistrationError, StopReason, settled};
 
 /// A registration target: its k-d tree and, for point-to-plane, its normals.
 pub(crate) struct IcpTarget {
