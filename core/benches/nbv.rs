@@ -11,14 +11,14 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use nbv_core::nbv::{
-    NbvParams, NextBestView, SensorRays, VisitedViews, visible_voxels, visible_voxels_literal,
+    NextBestView, SensorRays, VisitedViews, visible_voxels, visible_voxels_literal,
 };
 
 fn bench(c: &mut Criterion) {
     let (_, map, object) = scene::mapped_scene(1);
     let centroid = scene::centroid(&object);
     let robot = scene::robot();
-    let nbv = NextBestView::new(NbvParams::default(), &scene::dinast()).unwrap();
+    let nbv = NextBestView::new(scene::paper_nbv(), &scene::dinast()).unwrap();
     let visited = VisitedViews::default();
     let list = nbv
         .candidates_around(&robot, &map, &centroid, &visited)

@@ -11,7 +11,7 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use nbv_core::kinematics::Joints;
-use nbv_core::nbv::{NbvParams, NextBestView, VisitedViews};
+use nbv_core::nbv::{NextBestView, VisitedViews};
 use nbv_core::planning::{CollisionWorld, MotionPlanner, PlannerConfig};
 
 fn bench(c: &mut Criterion) {
@@ -21,7 +21,7 @@ fn bench(c: &mut Criterion) {
         .unwrap()
         .with_reduced_map(&map);
     let planner = MotionPlanner::new(world, PlannerConfig::default()).unwrap();
-    let candidates = NextBestView::new(NbvParams::default(), &scene::dinast())
+    let candidates = NextBestView::new(scene::paper_nbv(), &scene::dinast())
         .unwrap()
         .candidates_around(
             &robot,

@@ -8,7 +8,7 @@ use nalgebra::{Point3, Vector3};
 use nbv_core::cloud::PointCloud;
 use nbv_core::nbv::SensorRays;
 use nbv_core::nbv::{
-    GainMeasure, InformationGain, NbvParams, NextBestView, StopReason, StopRule, ViewSphere,
+    GainMeasure, InformationGain, NbvParams, NbvPreset, NextBestView, StopReason, StopRule,
     VisitedViews, first_hit, view_pose, view_pose_rolled, visible_voxels, visible_voxels_literal,
 };
 use nbv_core::occupancy::{ReducedMap, VoxelState, probability};
@@ -27,7 +27,7 @@ fn viewpoints_look_at_the_centroid_from_the_sphere() {
     let (_, map, object) = scene::mapped_scene(1);
     let c = scene::centroid(&object);
     let robot = scene::robot();
-    let planner = nbv(NbvParams::default());
+    let planner = nbv(scene::paper_nbv());
     let list = planner
         .candidates_around(&robot, &map, &c, &VisitedViews::default())
         .unwrap();
@@ -72,7 +72,7 @@ fn viewpoints_look_at_the_centroid_from_the_sphere() {
         .iter()
         .map(|x| (x.viewpoint.sample.i_theta, x.viewpoint.sample.i_phi))
         .collect();
-    for s in ViewSphere::default().samples().unwrap() {
+    for s in NbvPreset::Paper.sphere().samples().unwrap() {
         let reachable = robot
             .reachable("dinast", &view_pose(&c, 0.3, s.theta, s.phi))
             .unwrap();
@@ -103,19 +103,19 @@ fn ik_filter_and_extra_rolls() {
     let robot = scene::robot();
     // Beyond the arm's reach: nothing left.
     let far = Point3::new(2.2, 0.0, 0.4);
-    let list = nbv(NbvParams::default())
+    let list = nbv(scene::paper_nbv())
         .candidates_around(&robot, &map, &far, &VisitedViews::default())
         .unwrap();
     assert_eq!((list.candidates.len(), list.unreachable), (0, 61));
     // At the edge of the workspace, trying four rolls keeps at least as many viewpoints,
     // and a kept roll ≠ 0 means roll 0 had no IK solution.
     let edge = Point3::new(1.25, 0.0, 0.45);
-    let one = nbv(NbvParams::default())
+    let one = nbv(scene::paper_nbv())
         .viewpoints(&robot, &edge, &VisitedViews::default())
         .unwrap();
     let four = nbv(NbvParams {
         roll_candidates: 4,
-        ..NbvParams::default()
+        ..scene::paper_nbv()
     })
     .viewpoints(&robot, &edge, &VisitedViews::default())
     .unwrap();
@@ -144,7 +144,7 @@ fn visited_views_are_dropped() {
     let (_, map, object) = scene::mapped_scene(1);
     let c = scene::centroid(&object);
     let robot = scene::robot();
-    let planner = nbv(NbvParams::default());
+    let planner = nbv(scene::paper_nbv());
     let first = planner
         .candidates_around(&robot, &map, &c, &VisitedViews::default())
         .unwrap();
@@ -156,7 +156,8 @@ fn visited_views_are_dropped() {
     let second = planner
         .candidates_around(&robot, &map, &c2, &visited)
         .unwrap();
-    let expected_visited = ViewSphere::default()
+    let expected_visited = NbvPreset::Paper
+        .sphere()
         .samples()
         .unwrap()
         .iter()
@@ -183,7 +184,7 @@ fn dda_and_literal_visibility_are_identical_on_the_scene() {
     let robot = scene::robot();
     let coarse = nbv(NbvParams {
         ray_stride: 24,
-        ..NbvParams::default()
+        ..scene::paper_nbv()
     });
     let list = coarse
         .candidates_around(&robot, &map, &c, &VisitedViews::default())
@@ -205,7 +206,7 @@ fn candidate_lists_do_not_depend_on_the_thread_count() {
     let (_, map, object) = scene::mapped_scene(1);
     let c = scene::centroid(&object);
     let robot = scene::robot();
-    let planner = nbv(NbvParams::default());
+    let planner = nbv(scene::paper_nbv());
     let run = |threads| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -223,7 +224,7 @@ fn information_gain_of_a_simulated_view() {
     let c = scene::centroid(&object);
     let robot = scene::robot();
     let camera = scene::dinast();
-    let list = nbv(NbvParams::default())
+    let list = nbv(scene::paper_nbv())
         .candidates_around(&robot, &map, &c, &VisitedViews::default())
         .unwrap();
     let best = &list.candidates[0];
@@ -253,14 +254,19 @@ fn information_gain_of_a_simulated_view() {
     assert!((gain.total - (gain.freed + gain.filled)).abs() < 1e-12);
     // The documented behaviour of the printed eq. (5): the first view hits much surface
     // (the object and the table behind it), so G is negative although the view cleared
-    // unknown space; the default rule stops, the divergence-based rule goes on.
+    // unknown space; a rule on eq. (5) stops, the divergence-based rule goes on.
     assert_eq!(gain.voxels, 770);
     assert!(
         (gain.total + 33.31).abs() < 0.01 && (gain.bernoulli_kl - 25.56).abs() < 0.01,
         "{gain:?}"
     );
+    let eq5_rule = StopRule {
+        gain_threshold: 0.5,
+        measure: GainMeasure::Eq5,
+        ..StopRule::default()
+    };
     assert!(matches!(
-        StopRule::default().check(Some(&gain), list.candidates.len() - 1),
+        eq5_rule.check(Some(&gain), list.candidates.len() - 1),
         Some(StopReason::LowGain { .. })
     ));
     let kl_rule = StopRule {

@@ -38,7 +38,7 @@ fn every_objective_scores_the_candidates() {
     };
     let visited = VisitedViews::default();
     let all = |_: &_| true;
-    let paper = NextBestView::new(NbvParams::default(), &scene::dinast()).unwrap();
+    let paper = NextBestView::new(scene::paper_nbv(), &scene::dinast()).unwrap();
     let plain = paper.candidates_around(&robot, &map, &c, &visited).unwrap();
     let with_grid = paper
         .candidates_scored(&robot, &map, Some(&gains), &c, &visited, &all)
@@ -48,7 +48,7 @@ fn every_objective_scores_the_candidates() {
         let nbv = NextBestView::new(
             NbvParams {
                 objective: *objective,
-                ..NbvParams::default()
+                ..scene::paper_nbv()
             },
             &scene::dinast(),
         )

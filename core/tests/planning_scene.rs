@@ -7,7 +7,7 @@ mod support;
 
 use nalgebra::Point3;
 use nbv_core::kinematics::{DOF, Joints};
-use nbv_core::nbv::{Candidate, NbvParams, NextBestView, VisitedViews};
+use nbv_core::nbv::{Candidate, NextBestView, VisitedViews};
 use nbv_core::occupancy::{OccupancyGrid, ReducedMap};
 use nbv_core::planning::{
     CollisionTarget, CollisionWorld, MotionPlanner, PlannedPath, PlannerConfig, PlanningError,
@@ -37,7 +37,7 @@ fn fixture() -> Fixture {
         .with_reduced_map(&map);
     let planner = MotionPlanner::new(world, PlannerConfig::default()).unwrap();
     let brute = BruteForce::new(&robot, &scene::known_boxes(), Some(&map));
-    let candidates = NextBestView::new(NbvParams::default(), &scene::dinast())
+    let candidates = NextBestView::new(scene::paper_nbv(), &scene::dinast())
         .unwrap()
         .candidates_around(
             &robot,

@@ -6,8 +6,9 @@ use crate::error::{Problem, SceneError};
 use crate::scene::Scene;
 use nbv_core::calibration::PoseUncertainty;
 use nbv_core::kinematics::Joints;
+use nbv_core::nbv::VisitedViews;
 use nbv_core::perception::TableFilter;
-use nbv_core::pipeline::{ExploreConfig, ExploreMode, SURVEY_HEIGHT, SURVEY_SPACING};
+use nbv_core::pipeline::{ExploreConfig, ExploreMode, ObjectRegion, SURVEY_HEIGHT, SURVEY_SPACING};
 use nbv_core::planning::{Obstacle, ObstacleShape, PlannerConfig};
 use nbv_core::registration::{MapParams, PosePrior, RangeNoise, RegistrationParams};
 
@@ -177,7 +178,7 @@ impl Scene {
             phase_one,
             nbv: self.nbv.params(),
             stop: self.nbv.stop_rule(),
-            visited: (self.nbv.visited_min_distance, 20f64.to_radians()),
+            visited: (self.nbv.visited_min_distance, VisitedViews::default().angle),
             max_views_per_object: self.nbv.max_views_per_object as usize,
             frames_per_view: self.nbv.frames_per_view as usize,
             depth_smoothing: self.nbv.depth_smoothing as usize,
@@ -205,7 +206,7 @@ impl Scene {
                 self.registration.max_correction_deg.to_radians(),
                 self.registration.max_correction_m,
             ),
-            object_margin: 0.03,
+            object_margin: ObjectRegion::MARGIN,
             table_filter: Some(self.table_filter()),
             seed: self.seed,
         })

@@ -58,7 +58,7 @@ impl Segmentation {
     pub fn params(&self, seed: u64) -> SegmentationParams {
         SegmentationParams {
             voxel: self.voxel,
-            outlier_neighbours: self.outlier_k as usize,
+            outlier_neighbours: self.outlier_neighbours as usize,
             outlier_std: self.outlier_std,
             plane_distance: self.plane_distance,
             plane_iterations: self.plane_iterations as usize,

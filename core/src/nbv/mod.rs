@@ -29,12 +29,14 @@
 //!   the repeat is dropped, and at θ = 0 only one φ is kept (all φ give the same position
 //!   and axis). See [`ViewSphere`].
 //! - Defaults the paper does not give: Δθ = 15°, θ_max = 75°, Δφ = 30°, every 8th pixel,
-//!   visited thresholds 0.05 m / 20°, gain_thr = 0.5 (see each type).
+//!   gain_thr = 5 nats of Bernoulli KL divergence ([`NbvPreset::Paper`]); the project's
+//!   default is [`NbvPreset::Twin`].
 
 mod information_gain;
 mod missed_voxels;
 mod nbv_error;
 mod objectives;
+mod preset;
 mod sensor_rays;
 mod stop_rule;
 mod surface_sides;
@@ -55,6 +57,7 @@ pub use objectives::{
     proximity_count_ray, rear_side_entropy_ray, rear_side_voxel_ray, unobserved_voxel_ray,
     view_gain,
 };
+pub use preset::NbvPreset;
 pub use sensor_rays::SensorRays;
 pub use stop_rule::{GainMeasure, StopReason, StopRule};
 pub use surface_sides::{NewlySeen, SurfaceSides};

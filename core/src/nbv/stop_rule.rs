@@ -63,9 +63,9 @@ impl GainMeasure {
 
 /// The stop rule with its threshold and measure.
 ///
-/// The paper gives no value for `gain_thr`. Default 0.5 with the literal eq. (5): about two
-/// unknown voxels cleared (0.2554 each with p̄ = 0.7, see [`InformationGain`]) net of what
-/// re-observed surface subtracts.
+/// The paper gives no value for `gain_thr`. Default: the twin preset's
+/// ([`NbvPreset::stop_rule`](super::NbvPreset::stop_rule), beside the paper's), on the
+/// Bernoulli KL divergence.
 ///
 /// Behaviour of the literal G (see [`InformationGain`]): every voxel a view *hits* adds a
 /// negative term, so a view of surface gives a negative G even when it uncovers much. On
@@ -105,13 +105,7 @@ pub struct StopRule {
 
 impl Default for StopRule {
     fn default() -> Self {
-        Self {
-            gain_threshold: 0.5,
-            measure: GainMeasure::Eq5,
-            relative_gain: 0.0,
-            new_surface: 0.0,
-            new_surface_views: 2,
-        }
+        super::NbvPreset::default().stop_rule()
     }
 }
 
@@ -153,12 +147,12 @@ impl StopRule {
     /// far, in order. Off at a threshold of 0.
     ///
     /// ```
-    /// use nbv_core::nbv::{StopReason, StopRule};
+    /// use nbv_core::nbv::{NbvPreset, StopReason, StopRule};
     /// let rule = StopRule { new_surface: 0.02, new_surface_views: 2, ..StopRule::default() };
     /// assert_eq!(rule.check_new_surface(&[0.3, 0.01]), None); // one low view
     /// assert!(matches!(rule.check_new_surface(&[0.3, 0.01, 0.005]), Some(StopReason::NoNewSurface { views: 2, .. })));
     /// assert_eq!(rule.check_new_surface(&[0.3, 0.01, 0.05]), None);
-    /// assert_eq!(StopRule::default().check_new_surface(&[0.0, 0.0, 0.0]), None);
+    /// assert_eq!(NbvPreset::Paper.stop_rule().check_new_surface(&[0.0, 0.0, 0.0]), None);
     /// ```
     pub fn check_new_surface(&self, shares: &[f64]) -> Option<StopReason> {
         let k = self.new_surface_views;
@@ -225,6 +219,7 @@ mod tests {
     fn threshold_is_strict_and_gain_first() {
         let rule = StopRule {
             gain_threshold: 1.0,
+            measure: GainMeasure::Eq5,
             ..StopRule::default()
         };
         let g = |total| InformationGain {

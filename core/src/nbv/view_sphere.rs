@@ -19,13 +19,13 @@ const STEP_TOLERANCE: f64 = 1e-9;
 ///   same optical axis, the samples differing only by the roll about that axis: one sample
 ///   (i_φ = 0) is kept.
 ///
-/// The paper gives no values for Δθ, θ_max and Δφ; the defaults are Δθ = 15°, θ_max = 75°
-/// (down to 15° above the horizontal plane through the centroid, which keeps the arm above
-/// the table) and Δφ = 30°, with the paper's r = 0.3 m: 1 + 5·12 = 61 samples.
+/// The paper gives no values for Δθ, θ_max and Δφ; its preset
+/// ([`NbvPreset::sphere`](super::NbvPreset::sphere)) has 1 + 5·12 = 61 samples. The
+/// default is the twin preset's.
 ///
 /// ```
-/// use nbv_core::nbv::ViewSphere;
-/// let s = ViewSphere::default().samples()?;
+/// use nbv_core::nbv::NbvPreset;
+/// let s = NbvPreset::Paper.sphere().samples()?;
 /// assert_eq!(s.len(), 61);
 /// assert_eq!((s[0].theta, s[0].phi), (0.0, -std::f64::consts::PI));
 /// assert_eq!((s[1].i_theta, s[1].i_phi), (1, 0));
@@ -45,12 +45,7 @@ pub struct ViewSphere {
 
 impl Default for ViewSphere {
     fn default() -> Self {
-        Self {
-            radius: 0.3,
-            delta_theta: 15f64.to_radians(),
-            theta_max: 75f64.to_radians(),
-            delta_phi: 30f64.to_radians(),
-        }
+        super::NbvPreset::default().sphere()
     }
 }
 
@@ -157,7 +152,7 @@ mod tests {
 
     #[test]
     fn samples_are_distinct_positions() {
-        let s = ViewSphere::default().samples().unwrap();
+        let s = crate::nbv::NbvPreset::Paper.sphere().samples().unwrap();
         let c = Point3::origin();
         for (i, a) in s.iter().enumerate() {
             assert!(a.phi >= -PI && a.phi < PI);

@@ -31,9 +31,8 @@ pub enum VisibilityForm {
 
 /// Parameters of Algorithm 2 besides the sensor.
 ///
-/// Defaults: the paper's r = 0.3 m and (α_u, α_o) = (4, 1); Δθ = 15°, θ_max = 75°,
-/// Δφ = 30° (not given in the paper, see [`ViewSphere`]); every 8th Dinast pixel in u and
-/// v (1200 rays; the paper does not say how D was subsampled); one roll (eq. (3)'s).
+/// Defaults: the twin preset's ([`NbvPreset::params`](super::NbvPreset::params), beside
+/// the paper's).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NbvParams {
     /// The viewing sphere.
@@ -64,16 +63,7 @@ pub struct NbvParams {
 
 impl Default for NbvParams {
     fn default() -> Self {
-        Self {
-            sphere: ViewSphere::default(),
-            weights: ScoreWeights::default(),
-            ray_stride: 8,
-            roll_candidates: 1,
-            visibility: VisibilityForm::Dda,
-            objective: Objective::Paper,
-            cost_weight: 0.0,
-            object_surface: false,
-        }
+        super::NbvPreset::default().params()
     }
 }
 

@@ -13,10 +13,9 @@ use crate::math::Pose;
 /// of it **and** its optical axis (z) is within `angle` radians of the visited one's. Set
 /// `angle` to π to test positions only, or `distance` to infinity to test directions only.
 ///
-/// Defaults: 0.05 m and 20°. On the default sphere (r = 0.3 m, Δθ = 15°, Δφ = 30°)
-/// neighbouring rings are 0.078 m and 15° apart, so a visited pose removes its own sample
-/// (even after the centroid moved by a few centimetres) and, on the ring nearest the pole
-/// where neighbours are 0.040 m apart, its two neighbours in azimuth.
+/// Defaults: 0.08 m (about one Δθ step on the twin's sphere: 0.45 m × 10° = 0.079 m) and
+/// 20°: a visited pose removes its own sample, even after the centroid moved by a few
+/// centimetres, and its nearest neighbours.
 ///
 /// ```
 /// use nbv_core::nbv::{VisitedViews, view_pose};
@@ -42,7 +41,7 @@ impl Default for VisitedViews {
     fn default() -> Self {
         Self {
             poses: Vec::new(),
-            distance: 0.05,
+            distance: 0.08,
             angle: 20f64.to_radians(),
         }
     }
@@ -99,7 +98,7 @@ impl VisitedViews {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::nbv::{ViewSphere, view_pose};
+    use crate::nbv::view_pose;
     use nalgebra::Point3;
 
     #[test]
@@ -131,10 +130,11 @@ mod tests {
     #[test]
     fn a_visited_sample_removes_itself_and_near_neighbours_only() {
         let c = Point3::new(0.8, 0.0, 0.3);
-        let samples = ViewSphere::default().samples().unwrap();
+        // The paper's sphere (r = 0.3 m, Δθ = 15°, Δφ = 30°) and 0.05 m / 20°.
+        let samples = crate::nbv::NbvPreset::Paper.sphere().samples().unwrap();
         let pose = |i: usize| view_pose(&c, 0.3, samples[i].theta, samples[i].phi);
         let close_to = |visited: usize| {
-            let mut v = VisitedViews::default();
+            let mut v = VisitedViews::new(0.05, 20f64.to_radians()).unwrap();
             v.push(pose(visited));
             (0..samples.len())
                 .filter(|&i| v.is_close(&pose(i)))

@@ -36,6 +36,10 @@ pub struct ObjectRegion {
 }
 
 impl ObjectRegion {
+    /// The margin (m) the pipeline grows each object's phase-1 bounding box by
+    /// ([`ExploreConfig::object_margin`](super::ExploreConfig::object_margin)).
+    pub const MARGIN: f64 = 0.03;
+
     /// The box `[min − margin, max + margin]` whose top is raised by the full margin plus
     /// half the object's height (the laser may not have seen its top) and whose floor is
     /// the `table` top + margin/5 (so that table points stay out) when a table was found:

@@ -62,7 +62,8 @@ pub struct RegistrationParams {
     /// Index of the reference view: its output pose is its initial pose, every other pose
     /// is expressed relative to it (the paper uses the mid-range view).
     pub reference: usize,
-    /// `d_max`: correspondences farther apart than this are not used (metres).
+    /// `d_max`: correspondences farther apart than this are not used (metres). Default
+    /// 0.03: about twice the short-range camera's noise at working distance.
     pub max_correspondence_distance: f64,
     /// Cap on outer iterations (for sequential ICP: per pair).
     pub max_iterations: usize,
@@ -217,7 +218,7 @@ impl Default for RegistrationParams {
         Self {
             method: Method::Gpa,
             reference: 0,
-            max_correspondence_distance: 0.05,
+            max_correspondence_distance: 0.03,
             max_iterations: 100,
             max_inner_iterations: 50,
             tolerance: 1e-6,

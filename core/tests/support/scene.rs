@@ -6,6 +6,7 @@
 
 use nalgebra::{Point3, Vector3};
 use nbv_core::kinematics::{Joints, Robot};
+use nbv_core::nbv::{NbvParams, NbvPreset};
 use nbv_core::occupancy::{GridGeometry, OccupancyGrid, OccupancyParams, ReducedMap};
 use nbv_core::planning::Obstacle;
 use nbv_core::rig::DepthCameraSpec;
@@ -208,4 +209,14 @@ pub fn depth_frame(
         }
     }
     out
+}
+
+/// Algorithm 2 as the paper prints it: its preset's sphere and eq. (4) as printed, with
+/// eq. (3)'s roll only.
+#[allow(dead_code)]
+pub fn paper_nbv() -> NbvParams {
+    NbvParams {
+        roll_candidates: 1,
+        ..NbvPreset::Paper.params()
+    }
 }

@@ -2,7 +2,8 @@
 
 use super::Check;
 use crate::error::{Problem, SceneError};
-use nbv_core::nbv::{NbvParams, Objective, StopRule};
+pub use nbv_core::nbv::NbvPreset;
+use nbv_core::nbv::{GainMeasure, Objective, VisitedViews};
 use serde::{Deserialize, Serialize};
 
 /// Viewpoints on a sphere of radius `r` around the object centroid at inclinations
@@ -113,60 +114,49 @@ impl Default for Nbv {
 }
 
 impl Nbv {
-    /// Every value of `preset`.
+    /// Every value of `preset`, as nbv-core defines it ([`NbvPreset`]); the keys no core
+    /// type holds (frames, smoothing) are the same in both.
     pub fn preset(preset: NbvPreset) -> Self {
-        let paper = Self {
+        let p = preset.params();
+        let stop = preset.stop_rule();
+        Self {
             preset,
-            radius: 0.3,
-            dtheta_deg: 15.0,
-            theta_max_deg: 75.0,
-            dphi_deg: 30.0,
-            alpha_u: 4.0,
-            alpha_o: 1.0,
-            gain_threshold: 5.0,
-            gain_measure: GainMeasureName::Kl,
-            rolls: 4,
-            ray_subsample: 8,
-            visited_min_distance: 0.08,
-            max_views_per_object: 10,
+            radius: p.sphere.radius,
+            dtheta_deg: whole_degrees(p.sphere.delta_theta),
+            theta_max_deg: whole_degrees(p.sphere.theta_max),
+            dphi_deg: whole_degrees(p.sphere.delta_phi),
+            alpha_u: p.weights.unknown,
+            alpha_o: p.weights.occupied,
+            gain_threshold: stop.gain_threshold,
+            gain_measure: match stop.measure {
+                GainMeasure::Eq5 => GainMeasureName::Eq5,
+                GainMeasure::BernoulliKl => GainMeasureName::Kl,
+            },
+            rolls: p.roll_candidates as u32,
+            ray_subsample: p.ray_stride as u32,
+            visited_min_distance: VisitedViews::default().distance,
+            max_views_per_object: preset.max_views_per_object() as u32,
             frames_per_view: 8,
             depth_smoothing: 0,
-            objective: NbvParams::default().objective,
-            cost_weight: NbvParams::default().cost_weight,
-            relative_gain: StopRule::default().relative_gain,
-            object_surface: false,
-            new_surface: 0.0,
-            new_surface_views: 2,
-        };
-        match preset {
-            NbvPreset::Paper => paper,
-            NbvPreset::Twin => Self {
-                radius: 0.45,
-                dtheta_deg: 10.0,
-                dphi_deg: 20.0,
-                gain_threshold: 2.5,
-                max_views_per_object: 16,
-                object_surface: true,
-                new_surface: 0.02,
-                ..paper
-            },
+            objective: p.objective,
+            cost_weight: p.cost_weight,
+            relative_gain: stop.relative_gain,
+            object_surface: p.object_surface,
+            new_surface: stop.new_surface,
+            new_surface_views: stop.new_surface_views as u32,
         }
     }
 }
 
-/// `[nbv] preset`: where the `[nbv]` keys a scene leaves out come from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum NbvPreset {
-    /// For the twin's and the real rig's Dinast (1–2 cm of range noise at 0.3–0.45 m): a
-    /// wider, denser viewing sphere (r 0.45 m, Δθ 10°, Δφ 20°), a lower gain threshold
-    /// (2.5) and 16 views at most. Chosen over generated scenes, where the paper's values
-    /// leave far sides unseen (`examples/sweeps/nbv_presets.toml`, benches/README.md).
-    #[default]
-    Twin,
-    /// The paper's (Aleotti et al. 2014): r 0.3 m, Δθ 15°, Δφ 30°, threshold 5 (assumed),
-    /// 10 views at most — for reproductions.
-    Paper,
+/// `rad` in degrees, a whole number where it is one but for the rounding of the
+/// conversion (the presets' angles are whole degrees: 15° comes back as 14.999999999999998).
+fn whole_degrees(rad: f64) -> f64 {
+    let d = rad.to_degrees();
+    if (d - d.round()).abs() < 1e-9 {
+        d.round()
+    } else {
+        d
+    }
 }
 
 /// `[nbv]` as written: the keys given, over the preset's values.

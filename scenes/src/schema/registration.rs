@@ -3,19 +3,20 @@
 
 use super::Check;
 use crate::error::SceneError;
+use nbv_core::registration::RegistrationParams;
 use serde::{Deserialize, Serialize};
 
 /// Global registration of an object's views.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Registration {
-    /// Largest mutual-nearest-neighbour distance `d_max` (m). Default 0.03 (about twice
-    /// the short-range noise at working distance; assumed).
+    /// Largest correspondence distance `d_max` (m). Default: nbv-core's
+    /// ([`RegistrationParams`]), 0.03.
     pub d_max: f64,
-    /// Iteration cap. Default 100.
+    /// Iteration cap. Default: nbv-core's, 100.
     pub max_iterations: u32,
     /// Stop when the mean squared distance to the centroids changes by less than this
-    /// fraction between iterations. Default 1e-6.
+    /// fraction between iterations. Default: nbv-core's, 1e-6.
     pub tolerance: f64,
     /// Points per view after undersampling. Default 2000 (paper).
     pub points_per_view: u32,
@@ -45,10 +46,11 @@ pub struct Registration {
 
 impl Default for Registration {
     fn default() -> Self {
+        let core = RegistrationParams::default();
         Self {
-            d_max: 0.03,
-            max_iterations: 100,
-            tolerance: 1e-6,
+            d_max: core.max_correspondence_distance,
+            max_iterations: core.max_iterations as u32,
+            tolerance: core.tolerance,
             points_per_view: 2000,
             max_correction_deg: 5.0,
             max_correction_m: 0.03,

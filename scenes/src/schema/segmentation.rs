@@ -3,6 +3,7 @@
 
 use super::Check;
 use crate::error::SceneError;
+use nbv_core::perception::SegmentationParams;
 use serde::{Deserialize, Serialize};
 
 /// Parameters of phase-1 segmentation into object clusters.
@@ -12,7 +13,7 @@ pub struct Segmentation {
     /// Voxel-grid downsampling leaf (m) before segmentation; 0 disables it. Default 0.005.
     pub voxel: f64,
     /// Neighbours per point in statistical outlier removal. Default 50.
-    pub outlier_k: u32,
+    pub outlier_neighbours: u32,
     /// A point is an outlier when its mean neighbour distance exceeds the global mean by
     /// this many standard deviations. Default 3.0: PCL's tutorial value 1.0 always drops
     /// about a tenth of the points, and in a laser sweep those are the sparsely sampled
@@ -33,15 +34,16 @@ pub struct Segmentation {
 
 impl Default for Segmentation {
     fn default() -> Self {
+        let core = SegmentationParams::default();
         Self {
-            voxel: 0.005,
-            outlier_k: 50,
-            outlier_std: 3.0,
-            plane_distance: 0.01,
-            plane_iterations: 1000,
-            cluster_tolerance: 0.02,
-            min_cluster_points: 100,
-            max_cluster_points: 25_000,
+            voxel: core.voxel,
+            outlier_neighbours: core.outlier_neighbours as u32,
+            outlier_std: core.outlier_std,
+            plane_distance: core.plane_distance,
+            plane_iterations: core.plane_iterations as u32,
+            cluster_tolerance: core.cluster_tolerance,
+            min_cluster_points: core.min_cluster_points as u32,
+            max_cluster_points: core.max_cluster_points as u32,
         }
     }
 }
@@ -50,7 +52,11 @@ impl Segmentation {
     /// Checks every value of `[segmentation]`; the error names the key.
     pub(crate) fn check(&self, c: &Check) -> Result<(), SceneError> {
         c.within("segmentation.voxel", self.voxel, 0.0, 1.0, "[0, 1] m")?;
-        c.at_least("segmentation.outlier_k", self.outlier_k.into(), 1)?;
+        c.at_least(
+            "segmentation.outlier_neighbours",
+            self.outlier_neighbours.into(),
+            1,
+        )?;
         c.positive("segmentation.outlier_std", self.outlier_std)?;
         c.positive("segmentation.plane_distance", self.plane_distance)?;
         c.at_least(
