@@ -117,7 +117,7 @@ fn a_full_episode(r: &Value, mode: &str) {
 fn paper_env1_hybrid_is_the_same_on_one_and_two_threads() {
     let r = same_on_one_and_two_threads("hybrid", &[]);
     a_full_episode(&r, "hybrid");
-    // What the README promises for this episode (paper-env1 at its own seed): every object
+    // What docs/exploration.md, "At the paper scenes' own seeds", reports for this episode (paper-env1 at its own seed): every object
     // at least 85 % covered, an F-score of at least 90 %, no collision (checked above), and
     // the model's registration accepted with at most half the misalignment the views were
     // acquired with. At 1 cm a few millimetres of alignment barely move the F-score: the

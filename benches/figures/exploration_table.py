@@ -1,4 +1,4 @@
-"""The table of benches/README.md, "Exploration against its ceiling", from a sweep run with
+"""The table of docs/exploration.md, "Exploration against its ceiling", from a sweep run with
 oracle = true (examples/sweeps/exploration_quick.toml): per setting, views per object, coverage,
 coverage / ceiling, objects at 95 % of their ceiling, wasted views, views after the last
 rise of 0.5 point, the same views without noise, F-score. Usage:

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Markdown tables of a view-objective sweep's summary.json (benches/README.md, issue #19).
+"""Markdown tables of a view-objective sweep's summary.json (docs/objectives.md).
 
 usage: python3 benches/figures/objectives_table.py OUT/summary.json [OUT/episodes]
 

@@ -9,7 +9,7 @@ ICP) by any frame of the sample. Prints each step's share of the samples, its CP
 (samples / the sampling frequency given as the first argument, default 199 Hz) and its
 leaf functions.
 
-Usage (benches/README.md, "Profile of a paper-env1 episode"):
+Usage (docs/throughput.md, "One episode"):
     perf record -F 199 --call-graph dwarf,16384 -o perf.data \
         target/release/nbv explore --scene paper-env1 -o /tmp/prof --no-pictures
     perf script -i perf.data -F tid,ip,sym | python3 benches/profile/episode_steps.py 199

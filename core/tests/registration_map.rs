@@ -428,12 +428,9 @@ fn matching_along_the_rays_agrees_with_the_nearest_on_noise_free_views() {
 /// 0.33, 0.25 mm nearest; 1.45, 0.34, 0.25 mm along the rays): the truth is a fixed point
 /// of both.
 ///
-/// Not every start gains on so thin a cylinder. Reported 3 mm off across the axis (along
-/// +x), the view ends 2.10, 2.28, 1.97 mm off nearest and 3.02, 3.41, 2.37 mm along the
-/// rays; 3 mm along −y (towards the reference's sensor) ends 1.96, 1.91, 2.26 mm nearest
-/// and 1.94, 1.61, 2.13 mm along the rays. On the paper scenes' objects matching along
-/// the rays lowers the alignment error (benches/README, "What limits a camera view's
-/// registration").
+/// Matching along the rays captures a view from less far off than nearest points do, so
+/// the pipeline matches along the rays only to refine a registration where it ended
+/// (docs/registration.md, "Refining along the camera's rays once").
 #[test]
 fn matching_along_the_rays_keeps_a_noisy_view_started_at_the_truth() {
     let models = vec![free(0.0005), free(0.006)];
@@ -534,7 +531,7 @@ fn a_symmetric_object_keeps_the_priors_rotation_about_its_axis() {
     // 0.35 mm, a tenth of the camera's σ.
     assert!(turned.xy().norm() < 0.5f64.to_radians(), "{turned}");
     // The sideways error is not made worse (it is not removed either on this band: the
-    // view stays at its prior — a gap of this release).
+    // view stays at its prior; docs/registration.md, "What is left: the box").
     let axis_error = (left * centre - centre).xy().norm();
     assert!(axis_error <= 0.0031, "axis moved {axis_error}");
 }

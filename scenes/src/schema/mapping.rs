@@ -21,7 +21,7 @@ pub struct Mapping {
     /// view's burst clears, away from the image's returns and short of the surfaces the
     /// grid already holds (`nbv_core::rig::no_return_pixels`,
     /// `nbv_core::occupancy::OccupancyGrid::insert_scan`); 0 clears nothing. In
-    /// `[0, sensors.short_range.range[1]]`. Default 0 (off; measured in benches/README,
+    /// `[0, sensors.short_range.range[1]]`. Default 0 (off; measured in docs/mapping.md,
     /// "Free space where the camera returns nothing"). For the Dinast, 0.75: its far limit
     /// (0.8 m) less its 5 cm `range_margin`, within which a surface in view returns.
     pub no_return_clearing: f64,

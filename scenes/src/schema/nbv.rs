@@ -75,7 +75,7 @@ pub struct Nbv {
     /// frame before it is used ([`smooth_frame`](nbv_core::rig::smooth_frame), which says
     /// why). Default 0 (the averaged frame as it is). 2 (a 5 × 5 window) lowers the
     /// registration's error in Table III and on held-out seeds but also the coverage, and
-    /// on held-out seeds the F-score (benches/README, "Smoothing the depth frames").
+    /// on held-out seeds the F-score (docs/registration.md, "The registration's input smoothed").
     pub depth_smoothing: u32,
     /// What ranks the candidates: `"paper"` (eq. (4), default) or one of the seven
     /// information gains of Isler et al. 2016 / Delmerico et al. 2018:
