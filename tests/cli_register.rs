@@ -194,7 +194,7 @@ fn run(a: &[String]) -> Output {
 fn recovers_known_transforms_with_both_methods() {
     let s = scene();
     let mut bad = Vec::new();
-    for method in ["map", "icp", "icp-plane"] {
+    for method in ["gpa", "map", "icp", "icp-plane"] {
         let model = s.dir.path().join(format!("model-{method}.ply"));
         let poses = s.dir.path().join(format!("poses-{method}.json"));
         let out = run(&args(
@@ -235,9 +235,12 @@ fn recovers_known_transforms_with_both_methods() {
         let views = cloud.views.unwrap();
         assert_eq!((views[0], views[1000], views[2999]), (0, 1, 2));
     }
-    // Every method ends within half of each view's starting error (2.45 mm, 1°); the
-    // reference view keeps its pose (checked above).
-    for (method, name, r, t) in bad.into_iter().filter(|b| b.1 != &"a.ply") {
+    // Every method but the paper's p-ICP-GPA ends within half of each view's starting
+    // error (2.45 mm, 1°); the reference view keeps its pose (checked above). p-ICP-GPA
+    // converges (checked above) but its point-to-point steps slide on these smooth
+    // patches: measured 0.25° / 4.3 mm (b) and 1.06° / 7.5 mm (c), which is why `map` is
+    // the command's default.
+    for (method, name, r, t) in bad.into_iter().filter(|b| b.1 != &"a.ply" && b.0 != "gpa") {
         let k = ["a.ply", "b.ply", "c.pcd"]
             .iter()
             .position(|n| n == name)
@@ -421,6 +424,8 @@ fn views_without_overlap_report_non_convergence() {
         "register",
         s.files[0].to_str().unwrap(),
         far.to_str().unwrap(),
+        "--method",
+        "gpa",
         "-o",
         model.to_str().unwrap(),
         "--poses",

@@ -91,13 +91,13 @@ fn gpa_recovers_known_transforms() {
     // correspondences between independent samplings are off by a fraction of that. On
     // the object the error falls below a third (measured 6.6 -> 1.5 mm); the sensor pose,
     // 0.4 m away, keeps a rotation the object barely shows (measured 1.0 -> 0.70°, 5.0 ->
-    // 4.0 mm), so there it is only asserted to improve.
+    // 4.0 mm), so there it is held to its measured gain with a margin.
     assert!(
         after.2 < 0.3 * before.2 && after.2 < 2.0,
         "{after:?} vs {before:?}"
     );
     assert!(
-        after.0 < before.0 && after.1 < before.1,
+        after.0 < 0.8 * before.0 && after.1 < 0.9 * before.1,
         "{after:?} vs {before:?}"
     );
     assert!(reg.rms.unwrap() < 0.001);
@@ -165,12 +165,12 @@ fn icp_recovers_a_known_transform() {
         );
         assert!(report.converged(), "{:?}", report.stop);
         // At most half the starting translation; point-to-plane a fifth of both (measured
-        // 0.07°, 0.3 mm); point-to-point's rotation only improves (measured 1.0 -> 0.73°:
-        // it slides on this smooth patch).
+        // 0.07°, 0.3 mm); point-to-point's rotation gains less (measured 1.0 -> 0.73°: it
+        // slides on this smooth patch), held to that with a margin.
         let (max_r, max_t) = if point_to_plane {
             (0.2 * r0, 0.2 * t0)
         } else {
-            (r0, 0.5 * t0)
+            (0.85 * r0, 0.5 * t0)
         };
         assert!(r < max_r && t < max_t, "{r}° {t} m from {r0}° {t0} m");
         assert!(report.fitness > 0.8);

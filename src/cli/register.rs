@@ -59,8 +59,9 @@ pub struct RegisterArgs {
     /// Initial poses (see POSE FILES); identity for every view if absent.
     #[arg(long, value_name = "POSES.json")]
     init: Option<PathBuf>,
-    /// Algorithm.
-    #[arg(long, value_enum, default_value_t = MethodArg::Gpa)]
+    /// Algorithm: the MAP registration that makes the pipeline's models (default), or the
+    /// paper's p-ICP-GPA and sequential ICP for comparison.
+    #[arg(long, value_enum, default_value_t = MethodArg::Map)]
     method: MethodArg,
     /// Index (0-based, in the order given) of the reference view, whose pose is kept.
     #[arg(long, value_name = "K", default_value_t = 0)]

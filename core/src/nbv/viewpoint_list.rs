@@ -140,14 +140,15 @@ impl ViewpointList {
 ///
 /// ```
 /// use nbv_core::kinematics::Robot;
-/// use nbv_core::nbv::{NbvParams, NextBestView, VisitedViews};
+/// use nbv_core::nbv::{NbvPreset, NextBestView, VisitedViews};
 /// use nbv_core::occupancy::{GridGeometry, OccupancyGrid, OccupancyParams, ReducedMap};
 /// use nbv_core::rig::DepthCameraSpec;
 /// use nalgebra::Point3;
 /// let path = nbv_core::kinematics::COMAU_URDF;
 /// let robot = Robot::from_urdf_file(path)?;
 /// let camera = DepthCameraSpec::ipa1110();
-/// let nbv = NextBestView::new(NbvParams::default(), &camera)?;
+/// // The paper's sphere: r = 0.3 m, 61 samples.
+/// let nbv = NextBestView::new(NbvPreset::Paper.params(), &camera)?;
 /// // A grid where one voxel is occupied, the rest seen empty.
 /// let g = GridGeometry::new(Point3::new(0.5, -0.3, 0.2), Point3::new(1.1, 0.3, 0.6), 0.02)?;
 /// let mut values = vec![-1.0f32; g.len()];

@@ -368,6 +368,46 @@ mod tests {
         }
     }
 
+    /// Comau's a, e, r against rotations worked out by hand (R = Rz(a)·Ry(e)·Rz(r)): the
+    /// convention itself, which the round trips cannot catch.
+    #[test]
+    fn comau_euler_angles_match_hand_computed_rotations() {
+        let close = |p: &Pose, x: [f64; 3], z: [f64; 3]| {
+            let (px, pz) = (p.rotation * Vector3::x(), p.rotation * Vector3::z());
+            (px - Vector3::from(x)).norm() < 1e-12 && (pz - Vector3::from(z)).norm() < 1e-12
+        };
+        // a = 90°, e = 90°: Rz(90°)·Ry(90°) = [[0, −1, 0], [0, 0, 1], [−1, 0, 0]]: the
+        // tool's x points down, its z along world +y.
+        let p = pose_from_xyzaer(&[100.0, 200.0, 300.0, 90.0, 90.0, 0.0]);
+        assert!(close(&p, [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]), "{p}");
+        assert!((p.translation.vector - Vector3::new(0.1, 0.2, 0.3)).norm() < 1e-15);
+        // r = 30° alone turns about z: x to (cos 30°, sin 30°, 0).
+        let p = pose_from_xyzaer(&[0.0, 0.0, 0.0, 0.0, 0.0, 30.0]);
+        let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+        assert!(close(&p, [c, s, 0.0], [0.0, 0.0, 1.0]), "{p}");
+        // e = 90°, r = 90°: Ry(90°)·Rz(90°) = [[0, 0, 1], [1, 0, 0], [0, 1, 0]].
+        let p = pose_from_xyzaer(&[0.0, 0.0, 0.0, 0.0, 90.0, 90.0]);
+        assert!(close(&p, [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]), "{p}");
+        // And back: the tool pointing down (Ry(180°)) reads a = 0, e = 180°, r = 0.
+        let down = Pose::from_parts(
+            Translation3::new(0.8, 0.0, 0.5),
+            UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::PI),
+        );
+        let v = xyzaer_from_pose(&down);
+        let want = [800.0, 0.0, 500.0, 0.0, 180.0, 0.0];
+        assert!(
+            v.iter().zip(&want).all(|(a, b)| (a - b).abs() < 1e-9),
+            "{v:?}"
+        );
+        // x along world +y, z along world +x reads a = 0, e = 90°, r = 90°.
+        let v = xyzaer_from_pose(&pose_from_xyzaer(&[0.0, 0.0, 0.0, 0.0, 90.0, 90.0]));
+        let want = [0.0, 0.0, 0.0, 0.0, 90.0, 90.0];
+        assert!(
+            v.iter().zip(&want).all(|(a, b)| (a - b).abs() < 1e-9),
+            "{v:?}"
+        );
+    }
+
     #[test]
     fn errors_name_the_problem() {
         let e = Command::parse("OVR 150").unwrap_err();

@@ -328,3 +328,51 @@ proptest::proptest! {
         proptest::prop_assert!(injected.rotation.angle_to(&identified.rotation) < 1e-12);
     }
 }
+
+/// The design maps the hand-eye error (a pose error in the sensor frame) and the joint
+/// offsets to a view's world-frame correction about its sensor origin: each column against
+/// a finite difference of the forward kinematics, at random joints. The last joint's
+/// column is zero (it turns the frame as the mount does, and is folded into it).
+#[test]
+fn the_design_is_the_derivative_of_the_view_pose() {
+    let robot = robot();
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let h = 1e-6;
+    for _ in 0..5 {
+        let q = crate::kinematics::Joints::from_fn(|_, _| rng.random_range(-0.8..0.8));
+        let pose = robot.fk(&q, "dinast").unwrap();
+        let origin = Point3::from(pose.translation.vector);
+        let a = design(&robot, "dinast", &q, &pose).unwrap();
+        for col in 0..PARAMS {
+            let moved = if col < 6 {
+                // The mount turned or shifted by h in the sensor frame.
+                let mut xi = Vector6::zeros();
+                xi[col] = h;
+                let (w, t) = (xi.fixed_rows::<3>(0), xi.fixed_rows::<3>(3));
+                pose * Pose::from_parts(
+                    Translation3::from(t.into_owned()),
+                    UnitQuaternion::from_scaled_axis(w.into_owned()),
+                )
+            } else {
+                let mut qe = q;
+                qe[col - 6] += h;
+                robot.fk(&qe, "dinast").unwrap()
+            };
+            let numeric = correction_of(&(moved * pose.inverse()), &origin) / h;
+            let expected = if col == PARAMS - 1 {
+                Vector6::zeros()
+            } else {
+                a.column(col).into_owned()
+            };
+            assert!(
+                (numeric - expected).amax() < 1e-5 || col == PARAMS - 1,
+                "column {col}: finite difference {numeric:?}, design {expected:?}"
+            );
+            assert_eq!(
+                a.column(col).norm() == 0.0,
+                col == PARAMS - 1,
+                "column {col}"
+            );
+        }
+    }
+}
