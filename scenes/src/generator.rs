@@ -22,6 +22,7 @@ use nbv_core::mesh::TriMesh;
 use nbv_core::mesh::io::read_mesh;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use std::collections::HashMap;
 use std::path::PathBuf;
 
 /// The objects a generated scene draws from.
@@ -151,6 +152,31 @@ pub fn generate_with(
     config: &GeneratorConfig,
     reach: &dyn Reachability,
 ) -> Result<Scene, SceneError> {
+    check_request(seed, n_objects, config)?;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let table = Table {
+        min: [0.35, -0.70, 0.0],
+        max: [1.35, 0.70, 0.25],
+    };
+    let kinds = object_kinds(&mut rng, config.shapes, n_objects);
+    let meshes =
+        library_meshes(config).map_err(|message| SceneError::Generate { seed, message })?;
+    let placed = place_objects(&mut rng, &kinds, &meshes, &table, config, reach)
+        .map_err(|message| SceneError::Generate { seed, message })?;
+    let obstacles = back_obstacles(&mut rng, &placed.rects, table.top(), config);
+    Ok(generated_scene(
+        seed,
+        n_objects,
+        config,
+        table,
+        placed.objects,
+        obstacles,
+    ))
+}
+
+/// Checks what [`generate_with`] is asked for: a seed a scene file holds, an object region
+/// with min ≤ max, at least one object.
+fn check_request(seed: u64, n_objects: usize, config: &GeneratorConfig) -> Result<(), SceneError> {
     let fail = |message: String| SceneError::Generate { seed, message };
     if seed > i64::MAX as u64 {
         return Err(fail(format!("the seed must be at most {}", i64::MAX)));
@@ -164,86 +190,135 @@ pub fn generate_with(
     if n_objects == 0 {
         return Err(fail("at least one object is needed".into()));
     }
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let table = Table {
-        min: [0.35, -0.70, 0.0],
-        max: [1.35, 0.70, 0.25],
-    };
-    let top = table.top();
-    // Kinds: a shuffled pass over the library, repeated as needed.
-    let mut kinds = Vec::with_capacity(n_objects);
-    while kinds.len() < n_objects {
-        let mut pass = config.shapes.kinds().to_vec();
+    Ok(())
+}
+
+/// The kinds of the `n` objects: shuffled passes over the set, repeated as needed.
+fn object_kinds(rng: &mut ChaCha8Rng, shapes: ShapeSet, n: usize) -> Vec<ObjectKind> {
+    let mut kinds = Vec::with_capacity(n);
+    while kinds.len() < n {
+        let mut pass = shapes.kinds().to_vec();
         for i in (1..pass.len()).rev() {
             pass.swap(i, rng.random_range(0..=i));
         }
         kinds.extend(pass);
     }
-    kinds.truncate(n_objects);
-    let mut meshes = std::collections::HashMap::new();
+    kinds.truncate(n);
+    kinds
+}
+
+/// The mesh of each object of the set, read from `<mesh_dir>/<object>.stl`, with its path.
+fn library_meshes(
+    config: &GeneratorConfig,
+) -> Result<HashMap<ObjectKind, (PathBuf, TriMesh)>, String> {
+    let mut meshes = HashMap::new();
     for &kind in config.shapes.kinds() {
         let path = config.mesh_dir.join(format!("{}.stl", kind.name()));
-        let mesh = read_mesh(&path).map_err(|e| fail(e.to_string()))?;
+        let mesh = read_mesh(&path).map_err(|e| e.to_string())?;
         meshes.insert(kind, (path, mesh));
     }
-    let mut placed: Vec<[f64; 4]> = Vec::new(); // footprint rectangles [x0, y0, x1, y1]
-    let mut objects: Vec<ObjectSpec> = Vec::new();
-    let mut counts = std::collections::HashMap::new();
+    Ok(meshes)
+}
+
+/// The objects placed on the table so far.
+#[derive(Default)]
+struct PlacedObjects {
+    /// Their footprint rectangles `[x0, y0, x1, y1]`.
+    rects: Vec<[f64; 4]>,
+    /// Their specifications.
+    objects: Vec<ObjectSpec>,
+    /// Objects placed per kind (the second jug is `jug-2`).
+    counts: HashMap<ObjectKind, u32>,
+}
+
+/// Places one object of each of `kinds` in turn at a random yaw and position in the
+/// region: on the table, `min_gap` clear of the others, with enough reachable viewpoints;
+/// an error when an object finds no room in `attempts` draws.
+fn place_objects(
+    rng: &mut ChaCha8Rng,
+    kinds: &[ObjectKind],
+    meshes: &HashMap<ObjectKind, (PathBuf, TriMesh)>,
+    table: &Table,
+    config: &GeneratorConfig,
+    reach: &dyn Reachability,
+) -> Result<PlacedObjects, String> {
     // Placement asks for enough reachable viewpoints of the paper's viewing sphere (the
     // count `min_reachable_viewpoints` is of that sphere); the scene itself gets the
     // default `[nbv]`, the twin preset.
-    let placement_sphere = Nbv::preset(NbvPreset::Paper);
-    for kind in kinds {
+    let sphere = Nbv::preset(NbvPreset::Paper);
+    let mut placed = PlacedObjects::default();
+    for &kind in kinds {
         let (path, mesh) = &meshes[&kind];
-        let mut done = false;
-        for _ in 0..config.attempts {
-            let yaw = rng.random_range(0.0..360.0f64);
-            let x = rng.random_range(config.region_x[0]..=config.region_x[1]);
-            let y = rng.random_range(config.region_y[0]..=config.region_y[1]);
-            let pose = PoseSpec {
-                xyz: [round(x), round(y), top],
-                rpy_deg: [0.0, 0.0, round(yaw)],
-            };
-            let world = mesh.transformed(&pose.to_pose());
-            let rect = footprint(&world);
-            let on_table = rect[0] >= table.min[0] + 0.02
-                && rect[2] <= table.max[0] - 0.02
-                && rect[1] >= table.min[1] + 0.02
-                && rect[3] <= table.max[1] - 0.02;
-            let apart = placed.iter().all(|r| rect_gap(r, &rect) >= config.min_gap);
-            if !on_table || !apart {
-                continue;
-            }
-            let views = viewing_sphere(&solid_centroid(&world), &placement_sphere);
-            if count_reachable(&views, reach) < config.min_reachable_viewpoints {
-                continue;
-            }
-            let n = counts.entry(kind).or_insert(0u32);
-            *n += 1;
-            let name = if *n == 1 {
-                kind.name().to_owned()
-            } else {
-                format!("{}-{}", kind.name(), n)
-            };
-            placed.push(rect);
-            objects.push(ObjectSpec {
-                name,
-                mesh: path.clone(),
-                pose,
-            });
-            done = true;
-            break;
-        }
-        if !done {
-            return Err(fail(format!(
+        let found = (0..config.attempts)
+            .find_map(|_| draw_placement(rng, mesh, &placed.rects, table, config, &sphere, reach));
+        let Some((pose, rect)) = found else {
+            return Err(format!(
                 "no room for `{}` after {} attempts ({} objects placed)",
                 kind.name(),
                 config.attempts,
-                objects.len()
-            )));
-        }
+                placed.objects.len()
+            ));
+        };
+        let n = placed.counts.entry(kind).or_insert(0u32);
+        *n += 1;
+        let name = if *n == 1 {
+            kind.name().to_owned()
+        } else {
+            format!("{}-{}", kind.name(), n)
+        };
+        placed.rects.push(rect);
+        placed.objects.push(ObjectSpec {
+            name,
+            mesh: path.clone(),
+            pose,
+        });
     }
-    // Obstacles: a back panel and a few boxes, clear of the objects.
+    Ok(placed)
+}
+
+/// One random pose of `mesh` on the table and its footprint, if it fits: on the table
+/// (2 cm from its edges), `min_gap` from the footprints `placed`, and with at least
+/// `min_reachable_viewpoints` reachable viewpoints on the viewing sphere of `sphere`.
+fn draw_placement(
+    rng: &mut ChaCha8Rng,
+    mesh: &TriMesh,
+    placed: &[[f64; 4]],
+    table: &Table,
+    config: &GeneratorConfig,
+    sphere: &Nbv,
+    reach: &dyn Reachability,
+) -> Option<(PoseSpec, [f64; 4])> {
+    let yaw = rng.random_range(0.0..360.0f64);
+    let x = rng.random_range(config.region_x[0]..=config.region_x[1]);
+    let y = rng.random_range(config.region_y[0]..=config.region_y[1]);
+    let pose = PoseSpec {
+        xyz: [round(x), round(y), table.top()],
+        rpy_deg: [0.0, 0.0, round(yaw)],
+    };
+    let world = mesh.transformed(&pose.to_pose());
+    let rect = footprint(&world);
+    let on_table = rect[0] >= table.min[0] + 0.02
+        && rect[2] <= table.max[0] - 0.02
+        && rect[1] >= table.min[1] + 0.02
+        && rect[3] <= table.max[1] - 0.02;
+    let apart = placed.iter().all(|r| rect_gap(r, &rect) >= config.min_gap);
+    if !on_table || !apart {
+        return None;
+    }
+    let views = viewing_sphere(&solid_centroid(&world), sphere);
+    (count_reachable(&views, reach) >= config.min_reachable_viewpoints).then_some((pose, rect))
+}
+
+/// The obstacles at the back: a known back panel and a few boxes (each known with
+/// probability 0.8) between x = 1.08 m and the panel, half `min_gap` clear of the objects'
+/// footprints `placed` and of each other (a box finding no room in `attempts` draws is
+/// left out).
+fn back_obstacles(
+    rng: &mut ChaCha8Rng,
+    placed: &[[f64; 4]],
+    top: f64,
+    config: &GeneratorConfig,
+) -> Vec<ObstacleSpec> {
     let mut obstacles = vec![ObstacleSpec {
         name: "back-panel".into(),
         box_size: Some([
@@ -295,11 +370,24 @@ pub fn generate_with(
             }
         }
     }
+    obstacles
+}
+
+/// The generated scene: its name and description, the paper's workspace, the robot at
+/// its home, the objects and obstacles, and every other section at its default.
+fn generated_scene(
+    seed: u64,
+    n_objects: usize,
+    config: &GeneratorConfig,
+    table: Table,
+    objects: Vec<ObjectSpec>,
+    obstacles: Vec<ObstacleSpec>,
+) -> Scene {
     let (name, from) = match config.shapes {
         ShapeSet::Paper => (format!("random-{seed}"), "the library"),
         ShapeSet::All => (format!("random-{seed}-all"), "the whole library"),
     };
-    let scene = Scene {
+    Scene {
         name,
         description: format!(
             "Random table-top scene: seed {seed}, {n_objects} objects from {from}, obstacles at the back."
@@ -328,8 +416,7 @@ pub fn generate_with(
         registration: Registration::default(),
         errors: ErrorModel::default(),
         source: None,
-    };
-    Ok(scene)
+    }
 }
 
 /// Rounds to 0.1 mm / 0.01° so written scenes read cleanly (and round-trip exactly).

@@ -3,12 +3,15 @@
 
 use crate::error::Result;
 use crate::matching::{cluster_truth, true_object};
+use nbv_core::cloud::PointCloud;
 use nbv_core::evaluation::{
     ModelQuality, alignment_error, model_quality, point_error, quality_samples, surface_coverage,
     surface_coverage_curve,
 };
 use nbv_core::math::Pose;
-use nbv_core::pipeline::{Exploration, ExploreConfig, ObjectStop, StepTimes};
+use nbv_core::mesh::TriMesh;
+use nbv_core::perception::WorkcellAlignment;
+use nbv_core::pipeline::{Exploration, ExploreConfig, ObjectExploration, ObjectStop, StepTimes};
 use nbv_scenes::Scene;
 use serde::Serialize;
 
@@ -467,139 +470,279 @@ pub fn evaluate(
     exploration: &Exploration,
 ) -> Result<ExploreReport> {
     let meshes = scene.object_meshes()?;
-    let floor = scene.table.top() + 0.005;
-    let mut matched_by = vec![0usize; scene.objects.len()];
-    let (mut phantoms, mut dropped_clusters) = (0, 0);
-    let mut objects = Vec::new();
-    for object in &exploration.objects {
-        let truth = true_object(object, scene, &meshes);
+    let mut tally = ClusterTally::new(scene);
+    let objects: Vec<ObjectEntry> = exploration
+        .objects
+        .iter()
+        .map(|object| object_entry(scene, &meshes, object, &mut tally))
+        .collect();
+    let totals = totals(&objects, exploration);
+    let p = &exploration.phase_one;
+    Ok(ExploreReport {
+        scene: scene.name.clone(),
+        mode: exploration.mode.name().into(),
+        seed: scene.seed,
+        phase_one: phase_one_entry(scene, exploration),
+        objects,
+        missed_objects: tally.objects_matched(scene, |m| m == 0),
+        split_objects: tally.objects_matched(scene, |m| m > 1),
+        phantom_clusters: tally.phantoms,
+        dropped_clusters: tally.dropped,
+        workcell_alignment: p.workcell.as_ref().map(|a| workcell_entry(a, &p.cloud)),
+        hand_eye: exploration
+            .hand_eye
+            .as_ref()
+            .map(|e| hand_eye_entry(scene, e, exploration)),
+        totals,
+        config: config_json(scene, config),
+    })
+}
+
+/// What the clusters explored are in truth, counted over the episode: how many clusters
+/// each scene object was matched to, the phantoms and the dropped clusters.
+struct ClusterTally {
+    /// Per scene object, the clusters matched to it (dropped ones not counted).
+    matched_by: Vec<usize>,
+    /// Clusters explored that are no scene object and no unknown obstacle.
+    phantoms: usize,
+    /// Clusters dropped as not objects.
+    dropped: usize,
+}
+
+impl ClusterTally {
+    /// Nothing counted yet.
+    fn new(scene: &Scene) -> Self {
+        Self {
+            matched_by: vec![0; scene.objects.len()],
+            phantoms: 0,
+            dropped: 0,
+        }
+    }
+
+    /// Counts `object`: the scene object it is (if any) and what it is in truth
+    /// ([`ObjectEntry::truth`]).
+    fn count(
+        &mut self,
+        object: &ObjectExploration,
+        scene: &Scene,
+        meshes: &[TriMesh],
+    ) -> (Option<usize>, String) {
+        let truth = true_object(object, scene, meshes);
         let dropped = matches!(object.stop, ObjectStop::NotAnObject { .. });
         if let Some(i) = truth
             && !dropped
         {
-            matched_by[i] += 1;
+            self.matched_by[i] += 1;
         }
         let what = cluster_truth(&object.cluster, scene, truth);
         if !dropped && truth.is_none() && !what.starts_with("unknown obstacle") {
-            phantoms += 1;
+            self.phantoms += 1;
         }
-        dropped_clusters += usize::from(dropped);
-        let name = truth.map_or(format!("cluster-{}", object.index), |i| {
-            scene.objects[i].name.clone()
-        });
-        let coverage_of =
-            |model: &nbv_core::cloud::PointCloud| truth.map(|i| coverage(scene, &meshes[i], model));
-        let score = |poses: &[Pose],
-                     converged: bool,
-                     accepted: bool,
-                     views: &[nbv_core::cloud::PointCloud]| {
-            let e = point_error(views, poses);
-            let a = alignment_error(views, poses);
-            (e.points > 0).then_some(RegistrationScore {
-                mean: e.mean,
-                std: e.std,
-                alignment: a.mean,
-                alignment_std: a.std,
-                converged,
-                accepted,
-                failed: !converged || a.mean > FAILED_REGISTRATION_ERROR,
-            })
-        };
-        let (error_unregistered, error_gpa, error_pgpa, error_icp) = match &object.registration {
-            Some(r) => (
-                score(
-                    &vec![Pose::identity(); r.points.len()],
-                    true,
-                    true,
-                    &r.points,
-                ),
-                score(&r.map.poses, r.map.converged, r.map_accepted, &r.points),
-                r.gpa
-                    .as_ref()
-                    .and_then(|g| score(&g.poses, g.converged, r.gpa_accepted, &r.points)),
-                r.icp
-                    .as_ref()
-                    .and_then(|i| score(&i.poses, i.converged, r.icp_accepted, &r.points)),
-            ),
-            None => (None, None, None, None),
-        };
-        let map_report = object
-            .registration
-            .as_ref()
-            .and_then(|r| match &r.map.report {
-                nbv_core::registration::MethodReport::Map(m) => Some((**m).clone()),
-                _ => None,
-            });
-        let model = object.model();
-        let quality_of = |cloud: &nbv_core::cloud::PointCloud| {
-            truth.and_then(|i| {
-                model_quality(
-                    &meshes[i],
-                    cloud,
-                    QUALITY_TOLERANCE,
-                    floor,
-                    quality_samples(&meshes[i], QUALITY_TOLERANCE),
-                    scene.seed,
-                )
-            })
-        };
-        let unregistered = object.unregistered_model();
-        let coverage_by_view = match truth {
-            Some(i) => {
-                let parts = parts_by_view(object);
-                let parts: Vec<&nbv_core::cloud::PointCloud> = parts.iter().collect();
-                surface_coverage_curve(
-                    &meshes[i],
-                    &parts,
-                    COVERAGE_TOLERANCE,
-                    scene.table.top() + 0.005,
-                    COVERAGE_SAMPLES,
-                    scene.seed,
-                )
-                .iter()
-                .map(nbv_core::evaluation::Coverage::share)
-                .collect()
-            }
-            None => Vec::new(),
-        };
-        let (wasted_views, views_after_last_rise) = view_gains(&coverage_by_view);
-        objects.push(ObjectEntry {
-            name,
-            cluster: object.index,
-            cluster_points: object.cluster.len(),
-            truth: what,
-            views: object.views.iter().map(view_entry).collect(),
-            viewpoints_tried: object.views.len() + object.failures.len(),
-            viewpoints_failed: object.failures.iter().map(|f| f.reason.clone()).collect(),
-            candidates_evaluated: object.candidates_evaluated,
-            retreats: object.retreats,
-            stop: stop_text(&object.stop),
-            quality: quality_of(&model),
-            quality_mid_range: quality_of(&object.cluster),
-            quality_unregistered: quality_of(&unregistered),
-            coverage: coverage_of(&model),
-            coverage_mid_range: coverage_of(&object.cluster),
-            coverage_unregistered: coverage_of(&unregistered),
-            coverage_icp: object.icp_model().and_then(|m| coverage_of(&m)),
-            coverage_by_view,
-            wasted_views,
-            views_after_last_rise,
-            oracle: None,
-            joint_distance: object
-                .views
-                .iter()
-                .map(|v| v.plan.length_after_shortcut)
-                .sum(),
-            error_unregistered,
-            error_gpa,
-            error_pgpa,
-            registration: map_report,
-            registration_calibrated: object.registration.as_ref().is_some_and(|r| r.calibrated),
-            error_icp,
-            registration_error: object.registration_error.clone(),
-            times: Times::from(&object.times),
-        });
+        self.dropped += usize::from(dropped);
+        (truth, what)
     }
+
+    /// The names of the scene objects whose number of matched clusters passes `keep`.
+    fn objects_matched(&self, scene: &Scene, keep: impl Fn(usize) -> bool) -> Vec<String> {
+        scene
+            .objects
+            .iter()
+            .zip(&self.matched_by)
+            .filter(|(_, m)| keep(**m))
+            .map(|(o, _)| o.name.clone())
+            .collect()
+    }
+}
+
+/// One explored cluster measured against the true object it is (`meshes[i]` for the
+/// scene's object `i`), if any.
+fn object_entry(
+    scene: &Scene,
+    meshes: &[TriMesh],
+    object: &ObjectExploration,
+    tally: &mut ClusterTally,
+) -> ObjectEntry {
+    let (truth, what) = tally.count(object, scene, meshes);
+    let name = truth.map_or(format!("cluster-{}", object.index), |i| {
+        scene.objects[i].name.clone()
+    });
+    let surface = TrueSurface {
+        scene,
+        mesh: truth.map(|i| &meshes[i]),
+    };
+    let scores = RegistrationScores::of(object);
+    let map_report = object
+        .registration
+        .as_ref()
+        .and_then(|r| match &r.map.report {
+            nbv_core::registration::MethodReport::Map(m) => Some((**m).clone()),
+            _ => None,
+        });
+    let model = object.model();
+    let unregistered = object.unregistered_model();
+    let coverage_by_view = surface.coverage_by_view(object);
+    let (wasted_views, views_after_last_rise) = view_gains(&coverage_by_view);
+    ObjectEntry {
+        name,
+        cluster: object.index,
+        cluster_points: object.cluster.len(),
+        truth: what,
+        views: object.views.iter().map(view_entry).collect(),
+        viewpoints_tried: object.views.len() + object.failures.len(),
+        viewpoints_failed: object.failures.iter().map(|f| f.reason.clone()).collect(),
+        candidates_evaluated: object.candidates_evaluated,
+        retreats: object.retreats,
+        stop: stop_text(&object.stop),
+        quality: surface.quality(&model),
+        quality_mid_range: surface.quality(&object.cluster),
+        quality_unregistered: surface.quality(&unregistered),
+        coverage: surface.coverage(&model),
+        coverage_mid_range: surface.coverage(&object.cluster),
+        coverage_unregistered: surface.coverage(&unregistered),
+        coverage_icp: object.icp_model().and_then(|m| surface.coverage(&m)),
+        coverage_by_view,
+        wasted_views,
+        views_after_last_rise,
+        oracle: None,
+        joint_distance: object
+            .views
+            .iter()
+            .map(|v| v.plan.length_after_shortcut)
+            .sum(),
+        error_unregistered: scores.unregistered,
+        error_gpa: scores.map,
+        error_pgpa: scores.pgpa,
+        registration: map_report,
+        registration_calibrated: object.registration.as_ref().is_some_and(|r| r.calibrated),
+        error_icp: scores.icp,
+        registration_error: object.registration_error.clone(),
+        times: Times::from(&object.times),
+    }
+}
+
+/// The true surface of the object a cluster is (`None`: it is none of the scene's
+/// objects, and nothing is measured).
+struct TrueSurface<'a> {
+    /// The scene (its table and seed).
+    scene: &'a Scene,
+    /// The object's mesh.
+    mesh: Option<&'a TriMesh>,
+}
+
+impl TrueSurface<'_> {
+    /// The surface above this height (m) is measured: the table top and 5 mm.
+    fn floor(&self) -> f64 {
+        self.scene.table.top() + 0.005
+    }
+
+    /// The quality of `cloud` at [`QUALITY_TOLERANCE`].
+    fn quality(&self, cloud: &PointCloud) -> Option<ModelQuality> {
+        self.mesh.and_then(|mesh| {
+            model_quality(
+                mesh,
+                cloud,
+                QUALITY_TOLERANCE,
+                self.floor(),
+                quality_samples(mesh, QUALITY_TOLERANCE),
+                self.scene.seed,
+            )
+        })
+    }
+
+    /// The coverage of `model` ([`coverage`]).
+    fn coverage(&self, model: &PointCloud) -> Option<f64> {
+        self.mesh.map(|mesh| coverage(self.scene, mesh, model))
+    }
+
+    /// [`ObjectEntry::coverage_by_view`]: empty for a cluster that is no object.
+    fn coverage_by_view(&self, object: &ObjectExploration) -> Vec<f64> {
+        let Some(mesh) = self.mesh else {
+            return Vec::new();
+        };
+        let parts = parts_by_view(object);
+        let parts: Vec<&PointCloud> = parts.iter().collect();
+        surface_coverage_curve(
+            mesh,
+            &parts,
+            COVERAGE_TOLERANCE,
+            self.floor(),
+            COVERAGE_SAMPLES,
+            self.scene.seed,
+        )
+        .iter()
+        .map(nbv_core::evaluation::Coverage::share)
+        .collect()
+    }
+}
+
+/// An object's views registered by each method, scored against their true points.
+struct RegistrationScores {
+    /// The views as acquired (identity corrections).
+    unregistered: Option<RegistrationScore>,
+    /// The MAP registration (the model's).
+    map: Option<RegistrationScore>,
+    /// p-ICP-GPA.
+    pgpa: Option<RegistrationScore>,
+    /// Sequential ICP.
+    icp: Option<RegistrationScore>,
+}
+
+impl RegistrationScores {
+    /// The scores of `object`'s registrations (none without one).
+    fn of(object: &ObjectExploration) -> Self {
+        let Some(r) = &object.registration else {
+            return Self {
+                unregistered: None,
+                map: None,
+                pgpa: None,
+                icp: None,
+            };
+        };
+        Self {
+            unregistered: registration_score(
+                &r.points,
+                &vec![Pose::identity(); r.points.len()],
+                true,
+                true,
+            ),
+            map: registration_score(&r.points, &r.map.poses, r.map.converged, r.map_accepted),
+            pgpa: r
+                .gpa
+                .as_ref()
+                .and_then(|g| registration_score(&r.points, &g.poses, g.converged, r.gpa_accepted)),
+            icp: r
+                .icp
+                .as_ref()
+                .and_then(|i| registration_score(&r.points, &i.poses, i.converged, r.icp_accepted)),
+        }
+    }
+}
+
+/// The point and alignment errors of `views` corrected by `poses` (`None` without a true
+/// point); failed when not converged or misaligned by more than
+/// [`FAILED_REGISTRATION_ERROR`].
+fn registration_score(
+    views: &[PointCloud],
+    poses: &[Pose],
+    converged: bool,
+    accepted: bool,
+) -> Option<RegistrationScore> {
+    let e = point_error(views, poses);
+    let a = alignment_error(views, poses);
+    (e.points > 0).then_some(RegistrationScore {
+        mean: e.mean,
+        std: e.std,
+        alignment: a.mean,
+        alignment_std: a.std,
+        converged,
+        accepted,
+        failed: !converged || a.mean > FAILED_REGISTRATION_ERROR,
+    })
+}
+
+/// The totals over the objects' entries (the ceiling's shares left to
+/// [`ExploreReport::attach_oracle`]).
+fn totals(objects: &[ObjectEntry], exploration: &Exploration) -> Totals {
     let mut total_times = exploration.phase_one.times;
     for o in &exploration.objects {
         total_times.add(&o.times);
@@ -615,7 +758,7 @@ pub fn evaluate(
         )
         .unwrap_or(0.0)
     };
-    let totals = Totals {
+    Totals {
         views: objects.iter().map(|o| o.views.len()).sum(),
         failed_viewpoints: objects.iter().map(|o| o.viewpoints_failed.len()).sum(),
         collisions: exploration.collisions,
@@ -647,79 +790,59 @@ pub fn evaluate(
         min_coverage_of_ceiling: None,
         mean_coverage_of_ceiling: None,
         times: Times::from(&total_times),
-    };
+    }
+}
+
+/// Phase 1 in numbers: the sweep, the grid after it, the segmentation and its slivers
+/// (named by the scene's known obstacles).
+fn phase_one_entry(scene: &Scene, exploration: &Exploration) -> PhaseOneEntry {
     let p = &exploration.phase_one;
     let counts = p.grid.state_counts();
-    Ok(ExploreReport {
-        scene: scene.name.clone(),
-        mode: exploration.mode.name().into(),
-        seed: scene.seed,
-        phase_one: PhaseOneEntry {
-            lines: p.lines,
-            survey_frames: p.survey_frames,
-            points: p.cloud.len(),
-            clusters: exploration.objects.len(),
-            occupied: counts.occupied,
-            empty: counts.empty,
-            unknown: counts.unknown,
-            reduced_occupied: p.reduced.occupied,
-            reduced_unknown: p.reduced.unknown_crust,
-            segmentation: p.segmentation,
-            slivers: p
-                .slivers
-                .iter()
-                .map(|s| SliverEntry {
-                    obstacle: scene
-                        .obstacles
-                        .iter()
-                        .filter(|o| o.known)
-                        .nth(s.obstacle)
-                        .map_or_else(|| format!("obstacle {}", s.obstacle), |o| o.name.clone()),
-                    points: s.points,
-                    centroid: s.centroid.coords.into(),
-                    thickness: s.thickness,
-                    distance: s.distance,
-                })
-                .collect(),
-            times: Times::from(&p.times),
-        },
-        objects,
-        missed_objects: scene
-            .objects
+    PhaseOneEntry {
+        lines: p.lines,
+        survey_frames: p.survey_frames,
+        points: p.cloud.len(),
+        clusters: exploration.objects.len(),
+        occupied: counts.occupied,
+        empty: counts.empty,
+        unknown: counts.unknown,
+        reduced_occupied: p.reduced.occupied,
+        reduced_unknown: p.reduced.unknown_crust,
+        segmentation: p.segmentation,
+        slivers: p
+            .slivers
             .iter()
-            .zip(&matched_by)
-            .filter(|(_, m)| **m == 0)
-            .map(|(o, _)| o.name.clone())
+            .map(|s| SliverEntry {
+                obstacle: scene
+                    .obstacles
+                    .iter()
+                    .filter(|o| o.known)
+                    .nth(s.obstacle)
+                    .map_or_else(|| format!("obstacle {}", s.obstacle), |o| o.name.clone()),
+                points: s.points,
+                centroid: s.centroid.coords.into(),
+                thickness: s.thickness,
+                distance: s.distance,
+            })
             .collect(),
-        split_objects: scene
-            .objects
-            .iter()
-            .zip(&matched_by)
-            .filter(|(_, m)| **m > 1)
-            .map(|(o, _)| o.name.clone())
-            .collect(),
-        phantom_clusters: phantoms,
-        dropped_clusters,
-        workcell_alignment: p.workcell.as_ref().map(|a| {
-            let laser = p.cloud.origins.as_ref().and_then(|o| o.first().copied());
-            WorkcellEntry {
-                accepted: a.accepted,
-                rotation_deg: a.estimate.rotation.angle().to_degrees(),
-                translation: laser.map_or(a.estimate.translation.vector.norm(), |o| {
-                    (a.estimate * o - o).norm()
-                }),
-                inliers: a.inliers,
-                rms: a.rms,
-                chi2: a.chi2,
-            }
+        times: Times::from(&p.times),
+    }
+}
+
+/// The sweep's correction from the workcell; its translation is the displacement of the
+/// laser's first origin in `cloud` (of the origin without one).
+fn workcell_entry(a: &WorkcellAlignment, cloud: &PointCloud) -> WorkcellEntry {
+    let laser = cloud.origins.as_ref().and_then(|o| o.first().copied());
+    WorkcellEntry {
+        accepted: a.accepted,
+        rotation_deg: a.estimate.rotation.angle().to_degrees(),
+        translation: laser.map_or(a.estimate.translation.vector.norm(), |o| {
+            (a.estimate * o - o).norm()
         }),
-        hand_eye: exploration
-            .hand_eye
-            .as_ref()
-            .map(|e| hand_eye_entry(scene, e, exploration)),
-        totals,
-        config: config_json(scene, config),
-    })
+        inliers: a.inliers,
+        rms: a.rms,
+        chi2: a.chi2,
+    }
 }
 
 /// What each short-range view adds to the object's model (see

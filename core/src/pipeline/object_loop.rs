@@ -9,15 +9,16 @@ use super::episode::Episode;
 use super::plan_and_execute::{plan_clearing_start, retrace};
 use super::step_timer::timed;
 use super::{
-    AcquiredView, ExplorationMap, ExploreEvent, ExploreObserver, ObjectExploration, ObjectRegion,
-    ObjectStop, PipelineError, ViewFailure,
+    AcquiredView, ExplorationMap, ExploreConfig, ExploreEvent, ExploreObserver, ObjectExploration,
+    ObjectRegion, ObjectStop, PipelineError, ViewFailure,
 };
 use crate::cloud::PlaneFit;
 use crate::math::Pose;
 use crate::nbv::{
-    Candidate, InformationGain, MissedVoxels, NextBestView, StopReason, SurfaceSides, VisitedViews,
-    lazy_best, movement_cost_total,
+    Candidate, InformationGain, MissedVoxels, NextBestView, StopReason, SurfaceSides,
+    ViewpointList, VisitedViews, lazy_best, movement_cost_total,
 };
+use crate::planning::PlannedPath;
 use crate::rig::RigError;
 
 /// Explores `object` (its cluster in `region`, standing on `table`) until a stop; the
@@ -30,84 +31,193 @@ pub(super) fn explore_object(
     table: Option<&PlaneFit>,
     object: &mut ObjectExploration,
 ) -> Result<(), PipelineError> {
-    let config = ep.config;
-    let j = object.index;
-    let mut visited = VisitedViews::new(config.visited.0, config.visited.1)?;
-    let mut latest_gain: Option<InformationGain> = None;
-    let mut failures_since_view = 0;
-    let mut attempt: u64 = 0;
-    let mut retreated = false;
-    let mut first_best: Option<f64> = None;
-    // The unknown voxels taken views missed, and the sides of the object's voxels seen.
-    let mut missed = MissedVoxels::new(1);
-    let mut sides = SurfaceSides::of_cloud(map.grid.geometry(), &object.cluster);
-    loop {
-        if object.views.len() >= config.max_views_per_object {
-            object.stop = ObjectStop::MaxViews;
-            return Ok(());
+    let mut state = ObjectLoop::new(ep.config, nbv, map, region, table, object)?;
+    object.stop = loop {
+        if let Some(stop) = stop_before_sampling(ep.config, object) {
+            break stop;
         }
-        let shares: Vec<f64> = object.views.iter().map(|v| v.new_surface).collect();
-        if let Some(reason) = config.stop.check_new_surface(&shares) {
-            object.stop = ObjectStop::Rule(reason);
-            return Ok(());
+        let candidates = state.sample(ep, map, object)?;
+        if let Some(stop) = state.stop_on_candidates(ep.config, &candidates.list) {
+            break stop;
         }
-        let ViewCandidates {
-            mut planner,
-            mut list,
-        } = timed(&mut object.times.nbv, || -> Result<_, PipelineError> {
-            let centre = viewing_centre(&object.cluster, &object.views, region)
+        match state.take_view(ep, map, object, candidates)? {
+            Round::Taken => {}
+            Round::NotAnObject { points } => break ObjectStop::NotAnObject { points },
+            Round::NoneReached => {
+                if state.retreat(ep, object)? {
+                    continue;
+                }
+                break ObjectStop::Rule(StopReason::NoViewpoint);
+            }
+        }
+    };
+    Ok(())
+}
+
+/// How a round of candidates ended.
+enum Round {
+    /// The arm reached a candidate and the view was acquired.
+    Taken,
+    /// The first view was acquired but shows too few points of the object: not an object.
+    NotAnObject {
+        /// Points of the first view in the object's region.
+        points: usize,
+    },
+    /// No candidate could be reached.
+    NoneReached,
+}
+
+/// The stops checked before sampling: the view cap, and the rule on the new surface each
+/// view added.
+fn stop_before_sampling(config: &ExploreConfig, object: &ObjectExploration) -> Option<ObjectStop> {
+    if object.views.len() >= config.max_views_per_object {
+        return Some(ObjectStop::MaxViews);
+    }
+    let shares: Vec<f64> = object.views.iter().map(|v| v.new_surface).collect();
+    config.stop.check_new_surface(&shares).map(ObjectStop::Rule)
+}
+
+/// One object's exploration: what it explores with (the view planner, the object's region,
+/// the table it stands on) and what the loop carries from one round of candidates to the
+/// next.
+struct ObjectLoop<'a> {
+    /// The view planner (Algorithm 2).
+    nbv: &'a NextBestView,
+    /// The object's region.
+    region: &'a ObjectRegion,
+    /// The table it stands on, if phase 1 found one.
+    table: Option<&'a PlaneFit>,
+    /// The viewpoints taken, which new candidates keep away from.
+    visited: VisitedViews,
+    /// The unknown voxels the taken views missed.
+    missed: MissedVoxels,
+    /// The sides of the object's voxels seen.
+    sides: SurfaceSides,
+    /// The information gain of the latest view (the stop rule's).
+    latest_gain: Option<InformationGain>,
+    /// The best score of the first round's candidates (the relative stop's reference).
+    first_best: Option<f64>,
+    /// Viewpoints that failed since the latest view.
+    failures_since_view: usize,
+    /// Plans attempted so far: each has a seed of its own.
+    attempts: u64,
+    /// Whether the arm has retreated since the latest view (once, then the object stops).
+    retreated: bool,
+}
+
+impl<'a> ObjectLoop<'a> {
+    /// Before the first round: nothing visited or missed, the sides seen in the cluster.
+    fn new(
+        config: &ExploreConfig,
+        nbv: &'a NextBestView,
+        map: &ExplorationMap,
+        region: &'a ObjectRegion,
+        table: Option<&'a PlaneFit>,
+        object: &ObjectExploration,
+    ) -> Result<Self, PipelineError> {
+        Ok(Self {
+            nbv,
+            region,
+            table,
+            visited: VisitedViews::new(config.visited.0, config.visited.1)?,
+            missed: MissedVoxels::new(1),
+            sides: SurfaceSides::of_cloud(map.grid.geometry(), &object.cluster),
+            latest_gain: None,
+            first_best: None,
+            failures_since_view: 0,
+            attempts: 0,
+            retreated: false,
+        })
+    }
+
+    /// The round's candidates around what is seen of the object (timed as the NBV step),
+    /// counted and reported.
+    fn sample(
+        &self,
+        ep: &mut Episode<'_, '_>,
+        map: &ExplorationMap,
+        object: &mut ObjectExploration,
+    ) -> Result<ViewCandidates, PipelineError> {
+        let j = object.index;
+        let candidates = timed(&mut object.times.nbv, || -> Result<_, PipelineError> {
+            let centre = viewing_centre(&object.cluster, &object.views, self.region)
                 .ok_or_else(|| PipelineError::Config(format!("object {j} has no point")))?;
             // The arm's joints only when the movement cost reads them (a device round trip).
-            let start = if nbv.params.cost_weight > 0.0 {
+            let start = if self.nbv.params.cost_weight > 0.0 {
                 Some(ep.rig.arm.joints()?)
             } else {
                 None
             };
             view_candidates(
                 &ep.rig.robot,
-                config,
-                nbv,
+                ep.config,
+                self.nbv,
                 map,
                 start.as_ref(),
                 &centre,
-                &visited,
+                &self.visited,
                 Some(ObjectSurface {
-                    region,
-                    sides: &sides,
-                    missed: &missed,
+                    region: self.region,
+                    sides: &self.sides,
+                    missed: &self.missed,
                 }),
             )
         })?;
+        let list = &candidates.list;
         object.candidates_evaluated += list.candidates.len();
         ep.observer.event(&ExploreEvent::Candidates {
             object: j,
             candidates: list.candidates.len(),
-            list: &list,
+            list,
         });
+        Ok(candidates)
+    }
+
+    /// The stops checked on a round's candidates: the rule on the latest gain and the
+    /// number of candidates, then the best score against the first round's.
+    fn stop_on_candidates(
+        &mut self,
+        config: &ExploreConfig,
+        list: &ViewpointList,
+    ) -> Option<ObjectStop> {
         if let Some(reason) = config
             .stop
-            .check(latest_gain.as_ref(), list.candidates.len())
+            .check(self.latest_gain.as_ref(), list.candidates.len())
         {
-            object.stop = ObjectStop::Rule(reason);
-            return Ok(());
+            return Some(ObjectStop::Rule(reason));
         }
         let best = list
             .candidates
             .iter()
             .map(|c| c.score)
             .fold(f64::NEG_INFINITY, f64::max);
-        match first_best {
-            None => first_best = Some(best),
-            Some(first) => {
-                if let Some(reason) = config.stop.check_relative(first, best) {
-                    object.stop = ObjectStop::Rule(reason);
-                    return Ok(());
-                }
+        match self.first_best {
+            None => {
+                self.first_best = Some(best);
+                None
             }
+            Some(first) => config
+                .stop
+                .check_relative(first, best)
+                .map(ObjectStop::Rule),
         }
-        let mut taken = false;
+    }
+
+    /// Tries the round's candidates — in ranked order, or with the movement cost the exact
+    /// best by planned path length — until the arm reaches one, and acquires there.
+    fn take_view(
+        &mut self,
+        ep: &mut Episode<'_, '_>,
+        map: &mut ExplorationMap,
+        object: &mut ObjectExploration,
+        candidates: ViewCandidates,
+    ) -> Result<Round, PipelineError> {
+        let ViewCandidates {
+            mut planner,
+            mut list,
+        } = candidates;
         // The movement cost's normaliser Σc, fixed for the round (see `lazy_best`).
-        let lambda = nbv.params.cost_weight;
+        let lambda = self.nbv.params.cost_weight;
         let total_cost = if lambda > 0.0 {
             movement_cost_total(&list.candidates, &ep.rig.arm.joints()?)
         } else {
@@ -115,10 +225,12 @@ pub(super) fn explore_object(
         };
         loop {
             let start = ep.rig.arm.joints()?;
+            let seed_base = ep.config.seed ^ ((object.index as u64) << 32);
+            let attempts = &mut self.attempts;
             // Plans to one candidate: its IK goals, a seed of its own.
             let mut plan = |candidate: &Candidate| {
-                attempt += 1;
-                let seed = config.seed ^ ((j as u64) << 32) ^ attempt;
+                *attempts += 1;
+                let seed = seed_base ^ *attempts;
                 let goals: Vec<_> = candidate
                     .viewpoint
                     .solutions
@@ -127,8 +239,6 @@ pub(super) fn explore_object(
                     .collect();
                 plan_clearing_start(&mut planner, &start, &goals, seed)
             };
-            // The best candidate and its path: in ranked order, or with the movement cost
-            // the exact best by planned path length.
             let next = timed(&mut object.times.planning, || {
                 if lambda > 0.0 {
                     lazy_best(
@@ -147,139 +257,187 @@ pub(super) fn explore_object(
                 }
             });
             let Some((candidate, planned)) = next else {
-                break;
+                return Ok(Round::NoneReached);
             };
             let planned = match planned {
                 Ok(p) => p,
                 Err(e) => {
-                    fail(
-                        object,
-                        &candidate.viewpoint.pose,
-                        e.to_string(),
-                        false,
-                        ep.observer,
-                    );
-                    failures_since_view += 1;
+                    self.record_failure(ep, object, &candidate, e.to_string(), false);
                     continue;
                 }
             };
-            let moved = timed(&mut object.times.motion, || {
-                ep.rig.arm.execute(&planned.path)
-            });
-            if let Ok(motion) = &moved {
-                ep.observer.event(&ExploreEvent::Moved { motion });
+            if self.reach(ep, object, &candidate, &planned)? {
+                return self.acquire(ep, map, object, &candidate, planned);
             }
-            if let Err(e) = moved {
+        }
+    }
+
+    /// Executes the planned path to `candidate`: whether the arm got there (a reported
+    /// collision is a failed viewpoint, any other rig failure an error).
+    fn reach(
+        &mut self,
+        ep: &mut Episode<'_, '_>,
+        object: &mut ObjectExploration,
+        candidate: &Candidate,
+        planned: &PlannedPath,
+    ) -> Result<bool, PipelineError> {
+        let moved = timed(&mut object.times.motion, || {
+            ep.rig.arm.execute(&planned.path)
+        });
+        match moved {
+            Ok(motion) => {
+                ep.observer.event(&ExploreEvent::Moved { motion: &motion });
+                Ok(true)
+            }
+            Err(e) => {
                 let collision = matches!(e, RigError::Collision { .. });
                 ep.collisions += usize::from(collision);
-                fail(
-                    object,
-                    &candidate.viewpoint.pose,
-                    e.to_string(),
-                    collision,
-                    ep.observer,
-                );
-                failures_since_view += 1;
+                self.record_failure(ep, object, candidate, e.to_string(), collision);
                 if !collision {
                     // Anything else than a reported collision is a rig failure.
                     return Err(e.into());
                 }
-                continue;
+                Ok(false)
             }
-            let seen = acquire_and_update(
-                ep.rig,
+        }
+    }
+
+    /// Acquires the view at `candidate` (the arm is there): the grid updated, the view and
+    /// what it saw of the object recorded; a first view with too few points ends the
+    /// object as not an object.
+    fn acquire(
+        &mut self,
+        ep: &mut Episode<'_, '_>,
+        map: &mut ExplorationMap,
+        object: &mut ObjectExploration,
+        candidate: &Candidate,
+        planned: PlannedPath,
+    ) -> Result<Round, PipelineError> {
+        let config = ep.config;
+        let seen = acquire_and_update(
+            ep.rig,
+            config,
+            map,
+            &candidate.visible.all(),
+            self.region,
+            self.table,
+            &mut object.times,
+        )?;
+        let table_seen = timed(&mut object.times.registration, || {
+            table_evidence(
+                &seen.frame,
+                &seen.sensor_pose,
+                ep.rig.camera.spec().range[1],
+                &ep.footprints,
+                self.table,
                 config,
-                map,
-                &candidate.visible.all(),
-                region,
-                table,
-                &mut object.times,
-            )?;
-            let table_seen = timed(&mut object.times.registration, || {
-                table_evidence(
-                    &seen.frame,
-                    &seen.sensor_pose,
-                    ep.rig.camera.spec().range[1],
-                    &ep.footprints,
-                    table,
-                    config,
-                )
+            )
+        });
+        ep.observer
+            .event(&ExploreEvent::GridUpdated { grid: &map.grid });
+        self.visited.push(candidate.viewpoint.pose);
+        self.missed.record_in(&candidate.visible.unknown, &map.grid);
+        let before = self.sides.voxels();
+        let origin = nalgebra::Point3::from(seen.sensor_pose.translation.vector);
+        let added = self
+            .sides
+            .record(map.grid.geometry(), &origin, &seen.cloud.points);
+        let new_surface = added.voxels as f64 / before.max(1) as f64;
+        let first_points = object.views.is_empty().then_some(seen.cloud.len());
+        let gain = seen.gain;
+        object.views.push(AcquiredView {
+            viewpoint: candidate.viewpoint.pose,
+            score: candidate.score,
+            predicted: (
+                candidate.visible.unknown.len(),
+                candidate.visible.occupied.len(),
+            ),
+            joints: seen.joints,
+            sensor_pose: seen.sensor_pose,
+            frame_points: seen.frame_points,
+            cloud: seen.cloud,
+            free_space: seen.free_space,
+            registration_cloud: seen.registration_cloud,
+            gain,
+            table: table_seen,
+            plan: planned.stats,
+            failures_before: self.failures_since_view,
+            new_surface,
+        });
+        self.failures_since_view = 0;
+        if let Some(view) = object.views.last() {
+            ep.observer.event(&ExploreEvent::ViewTaken {
+                object: object.index,
+                views: object.views.len(),
+                gain: config.stop.measure.value(&gain),
+                view,
+                path: &planned.path,
+                frame: &seen.frame,
+                times: &object.times,
             });
-            ep.observer
-                .event(&ExploreEvent::GridUpdated { grid: &map.grid });
-            visited.push(candidate.viewpoint.pose);
-            missed.record_in(&candidate.visible.unknown, &map.grid);
-            let before = sides.voxels();
-            let origin = nalgebra::Point3::from(seen.sensor_pose.translation.vector);
-            let added = sides.record(map.grid.geometry(), &origin, &seen.cloud.points);
-            let new_surface = added.voxels as f64 / before.max(1) as f64;
-            let first_points = object.views.is_empty().then_some(seen.cloud.len());
-            let gain = seen.gain;
-            object.views.push(AcquiredView {
-                viewpoint: candidate.viewpoint.pose,
-                score: candidate.score,
-                predicted: (
-                    candidate.visible.unknown.len(),
-                    candidate.visible.occupied.len(),
-                ),
-                joints: seen.joints,
-                sensor_pose: seen.sensor_pose,
-                frame_points: seen.frame_points,
-                cloud: seen.cloud,
-                free_space: seen.free_space,
-                registration_cloud: seen.registration_cloud,
-                gain,
-                table: table_seen,
-                plan: planned.stats,
-                failures_before: failures_since_view,
-                new_surface,
-            });
-            failures_since_view = 0;
-            if let Some(view) = object.views.last() {
-                ep.observer.event(&ExploreEvent::ViewTaken {
-                    object: j,
-                    views: object.views.len(),
-                    gain: config.stop.measure.value(&gain),
-                    view,
-                    path: &planned.path,
-                    frame: &seen.frame,
-                    times: &object.times,
-                });
-            }
-            ep.trail.push(planned.path);
-            latest_gain = Some(gain);
-            taken = true;
-            retreated = false;
-            if let Some(points) = first_points
-                && points < config.phase_one.segmentation.min_cluster_points
-            {
-                object.stop = ObjectStop::NotAnObject { points };
-                return Ok(());
-            }
-            break;
         }
-        if !taken {
-            // No viewpoint was reachable from where the arm is (its last view can leave
-            // it boxed in by what that view added to the map): once, it goes back the way
-            // it came since phase 1 — space it has just moved through — and samples again.
-            if !retreated && !ep.trail.is_empty() {
-                retreated = true;
-                ep.observer.event(&ExploreEvent::Retreated { object: j });
-                let back = retrace(&ep.trail, ep.rig.arm.joints()?);
-                match timed(&mut object.times.motion, || ep.rig.arm.execute(&back)) {
-                    Ok(motion) => {
-                        ep.observer.event(&ExploreEvent::Moved { motion: &motion });
-                        ep.trail.clear();
-                        object.retreats += 1;
-                        continue;
-                    }
-                    Err(RigError::Collision { .. }) => ep.collisions += 1,
-                    Err(e) => return Err(e.into()),
-                }
+        ep.trail.push(planned.path);
+        self.latest_gain = Some(gain);
+        self.retreated = false;
+        match first_points {
+            Some(points) if points < config.phase_one.segmentation.min_cluster_points => {
+                Ok(Round::NotAnObject { points })
             }
-            object.stop = ObjectStop::Rule(StopReason::NoViewpoint);
-            return Ok(());
+            _ => Ok(Round::Taken),
         }
+    }
+
+    /// After a round in which no viewpoint was reachable from where the arm is (its last
+    /// view can leave it boxed in by what that view added to the map): once, the arm goes
+    /// back the way it came since phase 1 — space it has just moved through — so that the
+    /// next round samples from there. Whether it did (a collision on the way back counts
+    /// and ends the object; any other rig failure is an error).
+    fn retreat(
+        &mut self,
+        ep: &mut Episode<'_, '_>,
+        object: &mut ObjectExploration,
+    ) -> Result<bool, PipelineError> {
+        if self.retreated || ep.trail.is_empty() {
+            return Ok(false);
+        }
+        self.retreated = true;
+        ep.observer.event(&ExploreEvent::Retreated {
+            object: object.index,
+        });
+        let back = retrace(&ep.trail, ep.rig.arm.joints()?);
+        match timed(&mut object.times.motion, || ep.rig.arm.execute(&back)) {
+            Ok(motion) => {
+                ep.observer.event(&ExploreEvent::Moved { motion: &motion });
+                ep.trail.clear();
+                object.retreats += 1;
+                Ok(true)
+            }
+            Err(RigError::Collision { .. }) => {
+                ep.collisions += 1;
+                Ok(false)
+            }
+            Err(e) => Err(e.into()),
+        }
+    }
+
+    /// Records a viewpoint that could not be reached, one more failure since the latest
+    /// view.
+    fn record_failure(
+        &mut self,
+        ep: &mut Episode<'_, '_>,
+        object: &mut ObjectExploration,
+        candidate: &Candidate,
+        reason: String,
+        collision: bool,
+    ) {
+        fail(
+            object,
+            &candidate.viewpoint.pose,
+            reason,
+            collision,
+            ep.observer,
+        );
+        self.failures_since_view += 1;
     }
 }
 

@@ -154,6 +154,78 @@ struct Query<'a> {
 }
 
 impl Query<'_> {
+    /// The straight segment from `start` to the nearest usable goal it reaches free of
+    /// collision (ties by index), as a path and the goal's index in `usable`.
+    fn direct_segment(
+        &self,
+        start: &Joints,
+        usable: &[(usize, Joints)],
+    ) -> Option<(Vec<Joints>, usize)> {
+        let mut order: Vec<usize> = (0..usable.len()).collect();
+        order.sort_by(|&a, &b| {
+            (usable[a].1 - start)
+                .norm()
+                .total_cmp(&(usable[b].1 - start).norm())
+                .then(a.cmp(&b))
+        });
+        order
+            .into_iter()
+            .find(|&i| self.segment_free(start, &usable[i].1))
+            .map(|i| (vec![*start, usable[i].1], i))
+    }
+
+    /// RRT-Connect: a tree from the start and one from the usable goals, grown in turns
+    /// towards random samples and towards each other until they meet (the path and the
+    /// goal's index in `usable`) or the iterations run out; the iterations and nodes go
+    /// into `stats`.
+    fn rrt_connect(
+        &self,
+        start: &Joints,
+        usable: &[(usize, Joints)],
+        rng: &mut ChaCha8Rng,
+        stats: &mut PlanStats,
+    ) -> Option<(Vec<Joints>, usize)> {
+        let mut start_tree = Tree::default();
+        start_tree.add(*start, None, 0);
+        let mut goal_tree = Tree::default();
+        for (i, (_, g)) in usable.iter().enumerate() {
+            goal_tree.add(*g, None, i);
+        }
+        let mut found = None;
+        let (mut a, mut b) = (&mut start_tree, &mut goal_tree);
+        let mut a_is_start = true;
+        for it in 1..=self.planner.config.max_iterations {
+            stats.iterations = it;
+            let target = self.sample(rng);
+            let new = match self.extend(a, &target) {
+                Extension::Trapped => None,
+                Extension::Advanced(i) | Extension::Reached(i) => Some(i),
+            };
+            if let Some(i) = new {
+                let q_new = a.nodes[i];
+                if let Extension::Reached(j) = self.connect(b, &q_new) {
+                    let (from_a, from_b) = (a.branch(i), b.branch(j));
+                    let (mut s, g, goal) = if a_is_start {
+                        (from_a, from_b, b.roots[j])
+                    } else {
+                        (from_b, from_a, a.roots[i])
+                    };
+                    s.reverse();
+                    // `s` ends and `g` begins at the junction node.
+                    s.extend(g.into_iter().skip(1));
+                    found = Some((s, goal));
+                    break;
+                }
+            }
+            std::mem::swap(&mut a, &mut b);
+            a_is_start = !a_is_start;
+        }
+        stats.nodes = start_tree.nodes.len() + goal_tree.nodes.len();
+        found
+    }
+}
+
+impl Query<'_> {
     fn free(&self, q: &Joints) -> bool {
         self.checks.set(self.checks.get() + 1);
         !self.planner.world.in_collision(q)
@@ -294,6 +366,58 @@ impl MotionPlanner {
         goals: &[Joints],
         seed: u64,
     ) -> Result<PlannedPath, PlanningError> {
+        self.check_query(start, goals)?;
+        let (usable, out_of_limits) = self.usable_goals(start, goals)?;
+        let mut around: Vec<Joints> = usable.iter().map(|(_, g)| *g).collect();
+        around.push(*start);
+        let query = self.query(&around);
+        query.checks.set(1 + goals.len() - out_of_limits);
+        let mut stats = PlanStats {
+            goals: goals.len(),
+            usable_goals: usable.len(),
+            ..PlanStats::default()
+        };
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let found = match query.direct_segment(start, &usable) {
+            Some(found) => {
+                stats.nodes = 1 + usable.len();
+                Some(found)
+            }
+            None => query.rrt_connect(start, &usable, &mut rng, &mut stats),
+        };
+        let Some((mut path, goal)) = found else {
+            return Err(PlanningError::BudgetExhausted {
+                iterations: stats.iterations,
+                nodes: stats.nodes,
+            });
+        };
+        dedup(&mut path);
+        stats.waypoints_before_shortcut = path.len();
+        stats.length_before_shortcut = path_length(&path);
+        stats.shortcuts = shortcut(
+            &mut path,
+            self.config.shortcut_iterations,
+            &mut rng,
+            |p, q| query.segment_free(p, q),
+        );
+        stats.length_after_shortcut = path_length(&path);
+        if let Some(step) = self.config.interpolation_step {
+            path = interpolate(&path, step);
+        }
+        stats.collision_checks = query.checks.get();
+        Ok(PlannedPath {
+            path: JointPath {
+                waypoints: path,
+                speed_fraction: self.config.speed_fraction,
+            },
+            goal_index: usable[goal].0,
+            stats,
+        })
+    }
+
+    /// Checks a query: finite start and goals, at least one goal, the start within the
+    /// joint limits and free of collision.
+    fn check_query(&self, start: &Joints, goals: &[Joints]) -> Result<(), PlanningError> {
         if !start.iter().all(|v| v.is_finite()) {
             return Err(PlanningError::NonFinite("start configuration"));
         }
@@ -312,8 +436,19 @@ impl MotionPlanner {
         if let Some(c) = self.world.first_collision(start) {
             return Err(PlanningError::StartInCollision(c));
         }
+        Ok(())
+    }
+
+    /// The goals a path may end at, each with its index in `goals`: joints wider than 2π
+    /// moved next to the start, then those within the limits and free of collision,
+    /// duplicates dropped; and how many were out of the limits. An error when none is
+    /// left.
+    fn usable_goals(
+        &self,
+        start: &Joints,
+        goals: &[Joints],
+    ) -> Result<(Vec<(usize, Joints)>, usize), PlanningError> {
         let limits = self.world.robot().limits();
-        // Goals: joints wider than 2π moved next to the start; limits; collisions.
         let mut usable: Vec<(usize, Joints)> = Vec::new();
         let (mut out_of_limits, mut in_collision, mut first) = (0, 0, None);
         for (gi, g) in goals.iter().enumerate() {
@@ -346,100 +481,7 @@ impl MotionPlanner {
                 first,
             });
         }
-        let mut around: Vec<Joints> = usable.iter().map(|(_, g)| *g).collect();
-        around.push(*start);
-        let query = self.query(&around);
-        query.checks.set(1 + goals.len() - out_of_limits);
-        let mut stats = PlanStats {
-            goals: goals.len(),
-            usable_goals: usable.len(),
-            ..PlanStats::default()
-        };
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
-
-        // Direct segments, nearest goal first.
-        let mut order: Vec<usize> = (0..usable.len()).collect();
-        order.sort_by(|&a, &b| {
-            (usable[a].1 - start)
-                .norm()
-                .total_cmp(&(usable[b].1 - start).norm())
-                .then(a.cmp(&b))
-        });
-        let mut found = None;
-        for &i in &order {
-            if query.segment_free(start, &usable[i].1) {
-                found = Some((vec![*start, usable[i].1], i));
-                stats.nodes = 1 + usable.len();
-                break;
-            }
-        }
-
-        if found.is_none() {
-            let mut start_tree = Tree::default();
-            start_tree.add(*start, None, 0);
-            let mut goal_tree = Tree::default();
-            for (i, (_, g)) in usable.iter().enumerate() {
-                goal_tree.add(*g, None, i);
-            }
-            let (mut a, mut b) = (&mut start_tree, &mut goal_tree);
-            let mut a_is_start = true;
-            for it in 1..=self.config.max_iterations {
-                stats.iterations = it;
-                let target = query.sample(&mut rng);
-                let new = match query.extend(a, &target) {
-                    Extension::Trapped => None,
-                    Extension::Advanced(i) | Extension::Reached(i) => Some(i),
-                };
-                if let Some(i) = new {
-                    let q_new = a.nodes[i];
-                    if let Extension::Reached(j) = query.connect(b, &q_new) {
-                        let (from_a, from_b) = (a.branch(i), b.branch(j));
-                        let (mut s, g, goal) = if a_is_start {
-                            (from_a, from_b, b.roots[j])
-                        } else {
-                            (from_b, from_a, a.roots[i])
-                        };
-                        s.reverse();
-                        // `s` ends and `g` begins at the junction node.
-                        s.extend(g.into_iter().skip(1));
-                        found = Some((s, goal));
-                        break;
-                    }
-                }
-                std::mem::swap(&mut a, &mut b);
-                a_is_start = !a_is_start;
-            }
-            stats.nodes = start_tree.nodes.len() + goal_tree.nodes.len();
-        }
-
-        let Some((mut path, goal)) = found else {
-            return Err(PlanningError::BudgetExhausted {
-                iterations: stats.iterations,
-                nodes: stats.nodes,
-            });
-        };
-        dedup(&mut path);
-        stats.waypoints_before_shortcut = path.len();
-        stats.length_before_shortcut = path_length(&path);
-        stats.shortcuts = shortcut(
-            &mut path,
-            self.config.shortcut_iterations,
-            &mut rng,
-            |p, q| query.segment_free(p, q),
-        );
-        stats.length_after_shortcut = path_length(&path);
-        if let Some(step) = self.config.interpolation_step {
-            path = interpolate(&path, step);
-        }
-        stats.collision_checks = query.checks.get();
-        Ok(PlannedPath {
-            path: JointPath {
-                waypoints: path,
-                speed_fraction: self.config.speed_fraction,
-            },
-            goal_index: usable[goal].0,
-            stats,
-        })
+        Ok((usable, out_of_limits))
     }
 
     /// Plans to any IK solution that puts `frame` at `pose` (every branch is a goal).

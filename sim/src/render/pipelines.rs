@@ -66,6 +66,7 @@ pub(crate) struct Pipelines {
     pub cube_vertices: u32,
 }
 
+/// One kind of drawable's pipeline: its shaders, vertex buffers and blending.
 struct Kind<'a> {
     label: &'a str,
     module: &'a wgpu::ShaderModule,
@@ -77,120 +78,16 @@ struct Kind<'a> {
     alpha_to_coverage: bool,
 }
 
-impl Pipelines {
-    pub fn new(device: &wgpu::Device, sample_count: u32) -> Self {
-        let globals_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("nbv globals"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            }],
-        });
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("nbv layout"),
-            bind_group_layouts: &[Some(&globals_layout)],
-            immediate_size: 0,
-        });
-        let module = |label: &str, body: &str| {
-            device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(label),
-                source: wgpu::ShaderSource::Wgsl(format!("{GLOBALS}\n{body}").into()),
-            })
-        };
-        let mesh_module = module("nbv mesh", MESH);
-        let voxel_module = module("nbv voxel", VOXEL);
-        // Without multisampling there is no alpha to coverage: cut the sprite at half cover.
-        let discard = if sample_count > 1 { "0.0" } else { "0.5" };
-        let points_module = module(
-            "nbv points",
-            &format!("const POINT_DISCARD_BELOW: f32 = {discard};\n{POINTS}"),
-        );
-        let lines_module = module("nbv lines", LINES);
-
-        let mesh_attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Unorm8x4];
-        let mesh_buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: size_of::<MeshVertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &mesh_attrs,
-        })];
-        let cube_attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
-        let voxel_attrs =
-            wgpu::vertex_attr_array![2 => Float32x3, 3 => Float32, 4 => Unorm8x4, 5 => Float32];
-        let voxel_buffers = [
-            Some(wgpu::VertexBufferLayout {
-                array_stride: size_of::<CubeVertex>() as u64,
-                step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &cube_attrs,
-            }),
-            Some(wgpu::VertexBufferLayout {
-                array_stride: size_of::<VoxelInstance>() as u64,
-                step_mode: wgpu::VertexStepMode::Instance,
-                attributes: &voxel_attrs,
-            }),
-        ];
-        let point_attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Unorm8x4];
-        let point_buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: size_of::<PointInstance>() as u64,
-            step_mode: wgpu::VertexStepMode::Instance,
-            attributes: &point_attrs,
-        })];
-        let line_attrs = wgpu::vertex_attr_array![
-            0 => Float32x3, 1 => Float32, 2 => Float32x3, 3 => Unorm8x4
-        ];
-        let line_buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: size_of::<LineInstance>() as u64,
-            step_mode: wgpu::VertexStepMode::Instance,
-            attributes: &line_attrs,
-        })];
-
-        let build = |k: Kind<'_>| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(k.label),
-                layout: Some(&layout),
-                vertex: wgpu::VertexState {
-                    module: k.module,
-                    entry_point: Some(k.vs),
-                    compilation_options: Default::default(),
-                    buffers: k.buffers,
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology: wgpu::PrimitiveTopology::TriangleList,
-                    cull_mode: None,
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(k.depth_write),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: wgpu::MultisampleState {
-                    count: sample_count,
-                    mask: !0,
-                    alpha_to_coverage_enabled: k.alpha_to_coverage && sample_count > 1,
-                },
-                fragment: Some(wgpu::FragmentState {
-                    module: k.module,
-                    entry_point: Some(k.fs),
-                    compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format: COLOR_FORMAT,
-                        blend: k.blend,
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
-        let opaque = |label, module, vs, fs, buffers| Kind {
+impl<'a> Kind<'a> {
+    /// An opaque kind: no blending, writes depth, no alpha to coverage.
+    fn opaque(
+        label: &'a str,
+        module: &'a wgpu::ShaderModule,
+        vs: &'a str,
+        fs: &'a str,
+        buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    ) -> Self {
+        Self {
             label,
             module,
             vs,
@@ -199,45 +96,212 @@ impl Pipelines {
             blend: None,
             depth_write: true,
             alpha_to_coverage: false,
+        }
+    }
+}
+
+/// Mesh vertices: position, normal, colour.
+const MESH_ATTRS: [wgpu::VertexAttribute; 3] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Unorm8x4];
+/// The unit cube's corners: position, normal.
+const CUBE_ATTRS: [wgpu::VertexAttribute; 2] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+/// Voxel instances: centre, size, colour, shading.
+const VOXEL_ATTRS: [wgpu::VertexAttribute; 4] =
+    wgpu::vertex_attr_array![2 => Float32x3, 3 => Float32, 4 => Unorm8x4, 5 => Float32];
+/// Point instances: position, size, colour.
+const POINT_ATTRS: [wgpu::VertexAttribute; 3] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Unorm8x4];
+/// Line instances: start, width, end, colour.
+const LINE_ATTRS: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![
+    0 => Float32x3, 1 => Float32, 2 => Float32x3, 3 => Unorm8x4
+];
+
+/// The vertex buffer of meshes.
+fn mesh_buffers() -> [Option<wgpu::VertexBufferLayout<'static>>; 1] {
+    [Some(wgpu::VertexBufferLayout {
+        array_stride: size_of::<MeshVertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &MESH_ATTRS,
+    })]
+}
+
+/// The vertex buffers of voxels: the unit cube's corners, instanced per voxel.
+fn voxel_buffers() -> [Option<wgpu::VertexBufferLayout<'static>>; 2] {
+    [
+        Some(wgpu::VertexBufferLayout {
+            array_stride: size_of::<CubeVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &CUBE_ATTRS,
+        }),
+        Some(wgpu::VertexBufferLayout {
+            array_stride: size_of::<VoxelInstance>() as u64,
+            step_mode: wgpu::VertexStepMode::Instance,
+            attributes: &VOXEL_ATTRS,
+        }),
+    ]
+}
+
+/// The instance buffer of point sprites.
+fn point_buffers() -> [Option<wgpu::VertexBufferLayout<'static>>; 1] {
+    [Some(wgpu::VertexBufferLayout {
+        array_stride: size_of::<PointInstance>() as u64,
+        step_mode: wgpu::VertexStepMode::Instance,
+        attributes: &POINT_ATTRS,
+    })]
+}
+
+/// The instance buffer of line segments.
+fn line_buffers() -> [Option<wgpu::VertexBufferLayout<'static>>; 1] {
+    [Some(wgpu::VertexBufferLayout {
+        array_stride: size_of::<LineInstance>() as u64,
+        step_mode: wgpu::VertexStepMode::Instance,
+        attributes: &LINE_ATTRS,
+    })]
+}
+
+/// The shader modules, each with the shared globals prepended.
+struct ShaderModules {
+    mesh: wgpu::ShaderModule,
+    voxel: wgpu::ShaderModule,
+    points: wgpu::ShaderModule,
+    lines: wgpu::ShaderModule,
+}
+
+impl ShaderModules {
+    /// Compiles the modules; the point sprites' cut-off follows `sample_count`.
+    fn new(device: &wgpu::Device, sample_count: u32) -> Self {
+        let module = |label: &str, body: &str| {
+            device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(label),
+                source: wgpu::ShaderSource::Wgsl(format!("{GLOBALS}\n{body}").into()),
+            })
         };
-        let mesh_opaque = build(opaque(
-            "nbv mesh",
-            &mesh_module,
-            "vs_mesh",
-            "fs_mesh",
-            &mesh_buffers,
-        ));
+        let mesh = module("nbv mesh", MESH);
+        let voxel = module("nbv voxel", VOXEL);
+        // Without multisampling there is no alpha to coverage: cut the sprite at half cover.
+        let discard = if sample_count > 1 { "0.0" } else { "0.5" };
+        let points = module(
+            "nbv points",
+            &format!("const POINT_DISCARD_BELOW: f32 = {discard};\n{POINTS}"),
+        );
+        let lines = module("nbv lines", LINES);
+        Self {
+            mesh,
+            voxel,
+            points,
+            lines,
+        }
+    }
+}
+
+/// The bind-group layout of the uniform globals every pipeline shares.
+fn globals_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("nbv globals"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        }],
+    })
+}
+
+/// The render pipeline of one kind: triangle lists, no culling, depth test `Less`,
+/// `sample_count` samples, drawing into [`COLOR_FORMAT`] and [`DEPTH_FORMAT`].
+fn build_pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    sample_count: u32,
+    k: Kind<'_>,
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(k.label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module: k.module,
+            entry_point: Some(k.vs),
+            compilation_options: Default::default(),
+            buffers: k.buffers,
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            cull_mode: None,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(k.depth_write),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: wgpu::MultisampleState {
+            count: sample_count,
+            mask: !0,
+            alpha_to_coverage_enabled: k.alpha_to_coverage && sample_count > 1,
+        },
+        fragment: Some(wgpu::FragmentState {
+            module: k.module,
+            entry_point: Some(k.fs),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format: COLOR_FORMAT,
+                blend: k.blend,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+impl Pipelines {
+    /// The pipelines of every kind of drawable at `sample_count` samples, and the unit
+    /// cube's vertex buffer.
+    pub fn new(device: &wgpu::Device, sample_count: u32) -> Self {
+        let globals_layout = globals_layout(device);
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("nbv layout"),
+            bind_group_layouts: &[Some(&globals_layout)],
+            immediate_size: 0,
+        });
+        let modules = ShaderModules::new(device, sample_count);
+        let (mesh_buffers, voxel_buffers) = (mesh_buffers(), voxel_buffers());
+        let (point_buffers, line_buffers) = (point_buffers(), line_buffers());
+        let build = |k: Kind<'_>| build_pipeline(device, &layout, sample_count, k);
+        let mesh = |label| Kind::opaque(label, &modules.mesh, "vs_mesh", "fs_mesh", &mesh_buffers);
+        let mesh_opaque = build(mesh("nbv mesh"));
         let mesh_translucent = build(Kind {
             blend: Some(wgpu::BlendState::ALPHA_BLENDING),
             depth_write: false,
-            ..opaque(
-                "nbv translucent mesh",
-                &mesh_module,
-                "vs_mesh",
-                "fs_mesh",
-                &mesh_buffers,
-            )
+            ..mesh("nbv translucent mesh")
         });
-        let voxel = build(opaque(
+        let voxel = build(Kind::opaque(
             "nbv voxels",
-            &voxel_module,
+            &modules.voxel,
             "vs_voxel",
             "fs_voxel",
             &voxel_buffers,
         ));
         let points = build(Kind {
             alpha_to_coverage: true,
-            ..opaque(
+            ..Kind::opaque(
                 "nbv points",
-                &points_module,
+                &modules.points,
                 "vs_point",
                 "fs_point",
                 &point_buffers,
             )
         });
-        let lines = build(opaque(
+        let lines = build(Kind::opaque(
             "nbv lines",
-            &lines_module,
+            &modules.lines,
             "vs_line",
             "fs_line",
             &line_buffers,

@@ -142,6 +142,45 @@ pub fn views_to(curve: &[f64], target: f64) -> usize {
 /// origin, as the pipeline does.
 pub fn oracle(scene: &Scene, options: &OracleOptions) -> Result<OracleReport> {
     let start = std::time::Instant::now();
+    check_options(scene, options)?;
+    let config = scene.explore_config(ExploreMode::Hybrid)?;
+    let meshes = scene.object_meshes()?;
+    let laser = laser_points(scene, &config)?;
+    let mut caster = Caster::new(scene, &config)?;
+    let table_top = caster.table_top;
+    let mut objects = Vec::new();
+    for (i, (object, mesh)) in scene.objects.iter().zip(&meshes).enumerate() {
+        if options.object.as_ref().is_some_and(|n| n != &object.name) {
+            continue;
+        }
+        let Some(samples) = SurfaceSamples::of(mesh, table_top, scene.seed) else {
+            continue;
+        };
+        let taken = options
+            .views
+            .iter()
+            .find(|(name, _)| name == &object.name)
+            .map(|(_, taken)| taken.as_slice());
+        objects.push(caster.object_oracle(
+            i,
+            &object.name,
+            &samples,
+            &laser,
+            &options.dense,
+            taken,
+        )?);
+    }
+    Ok(OracleReport {
+        scene: scene.name.clone(),
+        seed: scene.seed,
+        dense: serde_json::to_value(&options.dense)?,
+        objects,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// Checks the options against the scene: a valid dense pose set, an object it has.
+fn check_options(scene: &Scene, options: &OracleOptions) -> Result<()> {
     options
         .dense
         .validate()
@@ -156,120 +195,95 @@ pub fn oracle(scene: &Scene, options: &OracleOptions) -> Result<OracleReport> {
             names.join(", ")
         )));
     }
-    let config = scene.explore_config(ExploreMode::Hybrid)?;
-    let meshes = scene.object_meshes()?;
-    let laser = laser_points(scene, &config)?;
-    let mut world = TwinWorld::from_scene(scene).context("building the twin world")?;
-    let base = *world.base();
-    if base.translation.vector.norm() > 1e-12 || base.rotation.angle() > 1e-12 {
-        return Err(SweepError::Invalid(format!(
-            "{}: the oracle needs the robot base at the world origin, as the pipeline does",
-            scene.name
-        )));
-    }
-    let camera = CameraModel::from_scene(&scene.sensors.short_range);
-    let robot = world.robot().clone();
-    let camera_frame = robot.frame_index(&camera.spec.frame).ok_or_else(|| {
-        SweepError::Invalid(format!(
-            "{}: the camera frame `{}` is not a link of the robot",
-            scene.name, camera.spec.frame
-        ))
-    })?;
-    let nbv = NextBestView::new(config.nbv, &camera.spec)?;
-    let home = world.configuration();
-    let table_top = scene.table.top();
-    let mut objects = Vec::new();
-    for (i, (object, mesh)) in scene.objects.iter().zip(&meshes).enumerate() {
-        if options.object.as_ref().is_some_and(|n| n != &object.name) {
-            continue;
+    Ok(())
+}
+
+/// The true world the oracle casts in: the twin's world with the arm moved to each pose,
+/// the noise-free camera, Algorithm 2's viewpoints, the arm's home to go back to, and the
+/// table's top.
+struct Caster {
+    world: TwinWorld,
+    robot: Robot,
+    camera: CameraModel,
+    /// The camera's frame, left out of its own casts.
+    camera_frame: usize,
+    nbv: NextBestView,
+    home: Joints,
+    table_top: f64,
+}
+
+impl Caster {
+    /// The twin of `scene`, its robot base at the world origin.
+    fn new(scene: &Scene, config: &nbv_core::pipeline::ExploreConfig) -> Result<Self> {
+        let world = TwinWorld::from_scene(scene).context("building the twin world")?;
+        let base = *world.base();
+        if base.translation.vector.norm() > 1e-12 || base.rotation.angle() > 1e-12 {
+            return Err(SweepError::Invalid(format!(
+                "{}: the oracle needs the robot base at the world origin, as the pipeline does",
+                scene.name
+            )));
         }
-        let Some(samples) = SurfaceSamples::of(mesh, table_top, scene.seed) else {
-            continue;
-        };
+        let camera = CameraModel::from_scene(&scene.sensors.short_range);
+        let robot = world.robot().clone();
+        let camera_frame = robot.frame_index(&camera.spec.frame).ok_or_else(|| {
+            SweepError::Invalid(format!(
+                "{}: the camera frame `{}` is not a link of the robot",
+                scene.name, camera.spec.frame
+            ))
+        })?;
+        let nbv = NextBestView::new(config.nbv, &camera.spec)?;
+        let home = world.configuration();
+        Ok(Self {
+            world,
+            robot,
+            camera,
+            camera_frame,
+            nbv,
+            home,
+            table_top: scene.table.top(),
+        })
+    }
+
+    /// The oracle of the scene's object `i` named `name` from its surface `samples`, the
+    /// `laser`'s points, the `dense` pose set and the views an exploration `taken` (if
+    /// given); the arm is back home afterwards.
+    fn object_oracle(
+        &mut self,
+        i: usize,
+        name: &str,
+        samples: &SurfaceSamples,
+        laser: &[Point3<f64>],
+        dense: &DensePoses,
+        taken: Option<&[(Pose, Joints)]>,
+    ) -> Result<OracleObject> {
+        let table_top = self.table_top;
         let centre = samples.centre(table_top);
-        let base_mask = samples.covered_by(&laser);
+        let base_mask = samples.covered_by(laser);
         let base_covered: Vec<usize> = (0..samples.len()).filter(|&k| base_mask[k]).collect();
         let mut sets = CoverSets::new(samples.len(), &base_covered);
-
-        // Algorithm 2's candidates, then the dense set: each with its first usable solution.
-        let mut counts = PoseCounts::default();
-        let set = nbv.viewpoints(&robot, &centre, &VisitedViews::default())?;
-        counts.algorithm2 = set.samples;
-        let mut goals: Vec<(Pose, Joints)> = Vec::new();
-        for v in &set.viewpoints {
-            counts.evaluated += 1;
-            if let Some(q) = first_free(&mut world, v.solutions.iter().map(|s| s.joints)) {
-                goals.push((v.pose, q));
-            }
-        }
-        // Rolls without a solution count as evaluated too.
-        counts.evaluated += set.unreachable * nbv.params.roll_candidates;
-        counts.algorithm2_reachable = goals.len();
-        let algorithm2 = goals.len();
-        let dense = options
-            .dense
-            .poses(&centre)
-            .map_err(|e| SweepError::Invalid(format!("the oracle's dense pose set: {e}")))?;
-        counts.evaluated += dense.len();
-        let solutions: Vec<Vec<Joints>> = dense
-            .par_iter()
-            .map(|d| {
-                [d.pose, d.turned]
-                    .iter()
-                    .flat_map(|p| ik_joints(&robot, &camera.spec.frame, p))
-                    .collect()
-            })
-            .collect();
-        for (d, qs) in dense.iter().zip(solutions) {
-            if let Some(q) = first_free(&mut world, qs.into_iter()) {
-                goals.push((d.pose, q));
-            }
-        }
-        counts.reachable = goals.len();
-
-        // Cast and score, a batch at a time.
-        for batch in goals.chunks(BATCH) {
-            let clouds: Vec<Vec<Point3<f64>>> = batch
-                .iter()
-                .map(|(pose, q)| {
-                    world.set_configuration(*q);
-                    camera_points(&world, &camera, Some(camera_frame), pose)
-                })
-                .collect();
-            let masks: Vec<Vec<bool>> = clouds.par_iter().map(|c| samples.covered_by(c)).collect();
-            for m in &masks {
-                sets.push_mask(m);
-            }
-        }
+        let (goals, counts) = self.reachable_goals(&centre, dense)?;
+        self.score_goals(&goals, samples, &mut sets);
         let n = samples.len() as f64;
-        let mut views_noise_free = Vec::new();
-        if let Some((_, taken)) = options.views.iter().find(|(name, _)| name == &object.name) {
-            let mut covered = base_mask.clone();
-            views_noise_free.push(sets.base_count() as f64 / n);
-            for (pose, q) in taken {
-                world.set_configuration(*q);
-                let mask =
-                    samples.covered_by(&camera_points(&world, &camera, Some(camera_frame), pose));
-                covered.iter_mut().zip(mask).for_each(|(c, m)| *c |= m);
-                views_noise_free.push(covered.iter().filter(|&&c| c).count() as f64 / n);
-            }
-        }
-        world.set_configuration(home);
+        let views_noise_free = match taken {
+            Some(taken) => self.noise_free_curve(taken, samples, base_mask, sets.base_count()),
+            None => Vec::new(),
+        };
+        self.world.set_configuration(self.home);
 
         let greedy = sets.greedy();
-        let alg2 = sets.count_with(0..algorithm2) as f64 / n;
+        let alg2 = sets.count_with(0..counts.algorithm2_reachable) as f64 / n;
         let ceiling = sets.union_count() as f64 / n;
         let causes: Vec<UnseenCause> = sets
             .uncovered()
             .into_iter()
             .map(|k| {
                 let (p, normal) = (&samples.points[k], &samples.normals[k]);
-                unseen_cause(&world, i as u32, p, normal, table_top)
+                unseen_cause(&self.world, i as u32, p, normal, table_top)
             })
             .collect();
         let curve: Vec<f64> = greedy.covered.iter().map(|&c| c as f64 / n).collect();
-        objects.push(OracleObject {
-            name: object.name.clone(),
+        Ok(OracleObject {
+            name: name.to_owned(),
             samples: samples.len(),
             ceiling,
             laser: sets.base_count() as f64 / n,
@@ -284,15 +298,97 @@ pub fn oracle(scene: &Scene, options: &OracleOptions) -> Result<OracleReport> {
             poses: counts,
             unseen: UnseenCauses::of(&causes, samples.len()),
             views_noise_free,
-        });
+        })
     }
-    Ok(OracleReport {
-        scene: scene.name.clone(),
-        seed: scene.seed,
-        dense: serde_json::to_value(&options.dense)?,
-        objects,
-        seconds: start.elapsed().as_secs_f64(),
-    })
+
+    /// The camera poses around `centre` the arm reaches without contact, each with its
+    /// first free solution: Algorithm 2's candidates first, then the `dense` set; and the
+    /// counts of poses evaluated and kept.
+    fn reachable_goals(
+        &mut self,
+        centre: &Point3<f64>,
+        dense: &DensePoses,
+    ) -> Result<(Vec<(Pose, Joints)>, PoseCounts)> {
+        let mut counts = PoseCounts::default();
+        let set = self
+            .nbv
+            .viewpoints(&self.robot, centre, &VisitedViews::default())?;
+        counts.algorithm2 = set.samples;
+        let mut goals: Vec<(Pose, Joints)> = Vec::new();
+        for v in &set.viewpoints {
+            counts.evaluated += 1;
+            if let Some(q) = first_free(&mut self.world, v.solutions.iter().map(|s| s.joints)) {
+                goals.push((v.pose, q));
+            }
+        }
+        // Rolls without a solution count as evaluated too.
+        counts.evaluated += set.unreachable * self.nbv.params.roll_candidates;
+        counts.algorithm2_reachable = goals.len();
+        let dense = dense
+            .poses(centre)
+            .map_err(|e| SweepError::Invalid(format!("the oracle's dense pose set: {e}")))?;
+        counts.evaluated += dense.len();
+        let (robot, frame) = (&self.robot, &self.camera.spec.frame);
+        let solutions: Vec<Vec<Joints>> = dense
+            .par_iter()
+            .map(|d| {
+                [d.pose, d.turned]
+                    .iter()
+                    .flat_map(|p| ik_joints(robot, frame, p))
+                    .collect()
+            })
+            .collect();
+        for (d, qs) in dense.iter().zip(solutions) {
+            if let Some(q) = first_free(&mut self.world, qs.into_iter()) {
+                goals.push((d.pose, q));
+            }
+        }
+        counts.reachable = goals.len();
+        Ok((goals, counts))
+    }
+
+    /// The camera's noise-free points from `pose`, the arm at `q`.
+    fn cast(&mut self, pose: &Pose, q: Joints) -> Vec<Point3<f64>> {
+        self.world.set_configuration(q);
+        camera_points(&self.world, &self.camera, Some(self.camera_frame), pose)
+    }
+
+    /// Casts from every goal and adds what each covers of `samples` to `sets`, a batch at
+    /// a time.
+    fn score_goals(
+        &mut self,
+        goals: &[(Pose, Joints)],
+        samples: &SurfaceSamples,
+        sets: &mut CoverSets,
+    ) {
+        for batch in goals.chunks(BATCH) {
+            let clouds: Vec<Vec<Point3<f64>>> =
+                batch.iter().map(|(pose, q)| self.cast(pose, *q)).collect();
+            let masks: Vec<Vec<bool>> = clouds.par_iter().map(|c| samples.covered_by(c)).collect();
+            for m in &masks {
+                sets.push_mask(m);
+            }
+        }
+    }
+
+    /// [`OracleObject::views_noise_free`]: the coverage of `samples` after 0, 1, … of the
+    /// views `taken`, from the laser's `covered` (`base_count` of them).
+    fn noise_free_curve(
+        &mut self,
+        taken: &[(Pose, Joints)],
+        samples: &SurfaceSamples,
+        mut covered: Vec<bool>,
+        base_count: usize,
+    ) -> Vec<f64> {
+        let n = samples.len() as f64;
+        let mut curve = vec![base_count as f64 / n];
+        for (pose, q) in taken {
+            let mask = samples.covered_by(&self.cast(pose, *q));
+            covered.iter_mut().zip(mask).for_each(|(c, m)| *c |= m);
+            curve.push(covered.iter().filter(|&&c| c).count() as f64 / n);
+        }
+        curve
+    }
 }
 
 /// The noise-free points of phase 1's laser sweep (every return, on whatever it hit),

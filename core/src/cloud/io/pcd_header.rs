@@ -88,23 +88,73 @@ fn list<T>(
         .map(Some)
 }
 
+/// A header line's keyword's line number and values, if the header has it.
+type Entry = Option<(usize, Vec<String>)>;
+
+/// The header's keywords before `DATA`, in the order of [`HeaderLines::entries`].
+const KEYS: [&str; 9] = [
+    "VERSION",
+    "FIELDS",
+    "SIZE",
+    "TYPE",
+    "COUNT",
+    "WIDTH",
+    "HEIGHT",
+    "VIEWPOINT",
+    "POINTS",
+];
+
+/// The header's lines up to and with `DATA`, each keyword at most once.
+struct HeaderLines {
+    /// The line of each of [`KEYS`], if present.
+    entries: [Entry; 9],
+    /// The body's encoding.
+    data: PcdData,
+    /// Line of the `DATA` keyword.
+    data_line: usize,
+}
+
 /// Parses the header at the start of `bytes`.
 pub(crate) fn parse_pcd_header(bytes: &[u8]) -> Result<PcdHeader, CloudIoError> {
     let mut lines = TextLines::new(bytes, 0, 1);
+    let HeaderLines {
+        entries,
+        data,
+        data_line,
+    } = header_lines(&mut lines)?;
+    let [
+        _version,
+        fields,
+        sizes,
+        types,
+        counts,
+        width,
+        height,
+        viewpoint,
+        points,
+    ] = entries;
+    let fields = fields_of(fields, sizes, types, counts, data_line)?;
+    let (width, height, points) = organisation(&width, &height, &points, data_line)?;
+    let viewpoint = viewpoint_of(viewpoint)?;
+    Ok(PcdHeader {
+        fields,
+        width,
+        height,
+        points,
+        viewpoint,
+        data,
+        body_offset: lines.pos(),
+        body_line: lines.line(),
+        data_line,
+    })
+}
+
+/// Reads the header's lines up to `DATA` (comments and blank lines skipped; `COLUMNS` is
+/// `FIELDS`): the first keyword line must be one of [`KEYS`], the version 0.5 to 0.7.
+fn header_lines(lines: &mut TextLines<'_>) -> Result<HeaderLines, CloudIoError> {
     let mut seen_keyword = false;
-    let mut entries: [Option<(usize, Vec<String>)>; 9] = Default::default();
-    const KEYS: [&str; 9] = [
-        "VERSION",
-        "FIELDS",
-        "SIZE",
-        "TYPE",
-        "COUNT",
-        "WIDTH",
-        "HEIGHT",
-        "VIEWPOINT",
-        "POINTS",
-    ];
-    let (data, data_line) = loop {
+    let mut entries: [Entry; 9] = Default::default();
+    loop {
         let Some(next) = lines.next_text() else {
             return Err(CloudIoError::at(
                 Location::Line(lines.line()),
@@ -123,18 +173,11 @@ pub(crate) fn parse_pcd_header(bytes: &[u8]) -> Result<PcdHeader, CloudIoError> 
         let keyword = tokens.next().unwrap_or_default().to_ascii_uppercase();
         let args: Vec<String> = tokens.map(str::to_owned).collect();
         if keyword == "DATA" {
-            let data = match args.first().map(|a| a.to_ascii_lowercase()).as_deref() {
-                Some("ascii") => PcdData::Ascii,
-                Some("binary") => PcdData::Binary,
-                Some("binary_compressed") => PcdData::BinaryCompressed,
-                _ => {
-                    return Err(header_error(
-                        n,
-                        "DATA must be ascii, binary or binary_compressed".into(),
-                    ));
-                }
-            };
-            break (data, n);
+            return Ok(HeaderLines {
+                entries,
+                data: data_encoding(n, &args)?,
+                data_line: n,
+            });
         }
         let key = if keyword == "COLUMNS" {
             "FIELDS"
@@ -142,66 +185,90 @@ pub(crate) fn parse_pcd_header(bytes: &[u8]) -> Result<PcdHeader, CloudIoError> 
             keyword.as_str()
         };
         let Some(slot) = KEYS.iter().position(|k| *k == key) else {
-            if !seen_keyword {
-                return Err(CloudIoError::at(
-                    Location::Line(n),
-                    CloudIoErrorKind::BadMagic {
-                        format: "PCD",
-                        detail: format!(
-                            "expected a VERSION or FIELDS line, found `{}`",
-                            excerpt(text)
-                        ),
-                    },
-                ));
-            }
-            return Err(header_error(
-                n,
-                format!("unknown header keyword `{}`", excerpt(&keyword)),
-            ));
+            return Err(unknown_keyword(n, text, &keyword, seen_keyword));
         };
         seen_keyword = true;
-        if key == "VERSION"
-            && !matches!(
-                args.first().map(String::as_str),
-                Some("0.7" | ".7" | "0.6" | ".6" | "0.5" | ".5")
-            )
-        {
-            return Err(CloudIoError::at(
-                Location::Line(n),
-                CloudIoErrorKind::Unsupported(format!(
-                    "PCD VERSION `{}` (0.5 to 0.7 are read)",
-                    excerpt(&args.join(" "))
-                )),
-            ));
+        if key == "VERSION" {
+            check_version(n, &args)?;
         }
         if entries[slot].is_some() {
             return Err(header_error(n, format!("second {key} line")));
         }
         entries[slot] = Some((n, args));
-    };
-    let [
-        _version,
-        fields,
-        sizes,
-        types,
-        counts,
-        width,
-        height,
-        viewpoint,
-        points,
-    ] = entries;
+    }
+}
 
-    let missing = |key: &str| header_error(data_line, format!("no {key} line before DATA"));
-    let Some((_, names)) = fields.clone() else {
-        return Err(missing("FIELDS"));
+/// The encoding `DATA` names on line `n`.
+fn data_encoding(n: usize, args: &[String]) -> Result<PcdData, CloudIoError> {
+    match args.first().map(|a| a.to_ascii_lowercase()).as_deref() {
+        Some("ascii") => Ok(PcdData::Ascii),
+        Some("binary") => Ok(PcdData::Binary),
+        Some("binary_compressed") => Ok(PcdData::BinaryCompressed),
+        _ => Err(header_error(
+            n,
+            "DATA must be ascii, binary or binary_compressed".into(),
+        )),
+    }
+}
+
+/// The error of an unknown keyword on line `n`: not a PCD file if no keyword came before.
+fn unknown_keyword(n: usize, text: &str, keyword: &str, seen_keyword: bool) -> CloudIoError {
+    if !seen_keyword {
+        return CloudIoError::at(
+            Location::Line(n),
+            CloudIoErrorKind::BadMagic {
+                format: "PCD",
+                detail: format!(
+                    "expected a VERSION or FIELDS line, found `{}`",
+                    excerpt(text)
+                ),
+            },
+        );
+    }
+    header_error(n, format!("unknown header keyword `{}`", excerpt(keyword)))
+}
+
+/// Checks the `VERSION` on line `n`: 0.5 to 0.7 are read.
+fn check_version(n: usize, args: &[String]) -> Result<(), CloudIoError> {
+    if matches!(
+        args.first().map(String::as_str),
+        Some("0.7" | ".7" | "0.6" | ".6" | "0.5" | ".5")
+    ) {
+        return Ok(());
+    }
+    Err(CloudIoError::at(
+        Location::Line(n),
+        CloudIoErrorKind::Unsupported(format!(
+            "PCD VERSION `{}` (0.5 to 0.7 are read)",
+            excerpt(&args.join(" "))
+        )),
+    ))
+}
+
+/// The error of a keyword missing before `DATA` (on `data_line`).
+fn missing(data_line: usize, key: &str) -> CloudIoError {
+    header_error(data_line, format!("no {key} line before DATA"))
+}
+
+/// The fields from `FIELDS`, `SIZE`, `TYPE` and `COUNT` (1 each without it).
+fn fields_of(
+    fields: Entry,
+    sizes: Entry,
+    types: Entry,
+    counts: Entry,
+    data_line: usize,
+) -> Result<Vec<PcdField>, CloudIoError> {
+    let Some((_, names)) = fields else {
+        return Err(missing(data_line, "FIELDS"));
     };
     let n = names.len();
     let sizes = list(sizes, "SIZE", n, |l, v| {
         v.parse::<usize>()
             .map_err(|_| header_error(l, format!("SIZE value `{}` is not an integer", excerpt(v))))
     })?
-    .ok_or_else(|| missing("SIZE"))?;
-    let types = list(types, "TYPE", n, |_, v| Ok(v.to_owned()))?.ok_or_else(|| missing("TYPE"))?;
+    .ok_or_else(|| missing(data_line, "SIZE"))?;
+    let types = list(types, "TYPE", n, |_, v| Ok(v.to_owned()))?
+        .ok_or_else(|| missing(data_line, "TYPE"))?;
     let counts = list(counts, "COUNT", n, |l, v| {
         let c = parse_u64(l, "COUNT", v)?;
         if c == 0 {
@@ -224,20 +291,31 @@ pub(crate) fn parse_pcd_header(bytes: &[u8]) -> Result<PcdHeader, CloudIoError> 
         };
         out_fields.push(PcdField { name, ty: t, count });
     }
+    Ok(out_fields)
+}
 
-    let single =
-        |e: &Option<(usize, Vec<String>)>, key: &str| -> Result<Option<u64>, CloudIoError> {
-            match e {
-                None => Ok(None),
-                Some((l, v)) => match &v[..] {
-                    [x] => parse_u64(*l, key, x).map(Some),
-                    _ => Err(header_error(*l, format!("{key} takes one value"))),
-                },
-            }
-        };
-    let w = single(&width, "WIDTH")?;
-    let h = single(&height, "HEIGHT")?.unwrap_or(1);
-    let p = single(&points, "POINTS")?;
+/// The single integer of a `WIDTH`, `HEIGHT` or `POINTS` line, if the header has it.
+fn single(e: &Entry, key: &str) -> Result<Option<u64>, CloudIoError> {
+    match e {
+        None => Ok(None),
+        Some((l, v)) => match &v[..] {
+            [x] => parse_u64(*l, key, x).map(Some),
+            _ => Err(header_error(*l, format!("{key} takes one value"))),
+        },
+    }
+}
+
+/// `(width, height, points)`: `HEIGHT` 1 and `POINTS` `WIDTH × HEIGHT` by default,
+/// `WIDTH` `POINTS` for a height of 1; they must agree.
+fn organisation(
+    width: &Entry,
+    height: &Entry,
+    points: &Entry,
+    data_line: usize,
+) -> Result<(u64, u64, u64), CloudIoError> {
+    let w = single(width, "WIDTH")?;
+    let h = single(height, "HEIGHT")?.unwrap_or(1);
+    let p = single(points, "POINTS")?;
     let (width, points) = match (w, p) {
         (Some(w), Some(p)) => (w, p),
         (Some(w), None) => (
@@ -246,7 +324,7 @@ pub(crate) fn parse_pcd_header(bytes: &[u8]) -> Result<PcdHeader, CloudIoError> 
                 .ok_or_else(|| header_error(data_line, "WIDTH × HEIGHT overflows".into()))?,
         ),
         (None, Some(p)) if h == 1 => (p, p),
-        _ => return Err(missing("WIDTH")),
+        _ => return Err(missing(data_line, "WIDTH")),
     };
     if width.checked_mul(h) != Some(points) {
         return Err(header_error(
@@ -254,34 +332,22 @@ pub(crate) fn parse_pcd_header(bytes: &[u8]) -> Result<PcdHeader, CloudIoError> 
             format!("WIDTH × HEIGHT = {width} × {h} does not equal POINTS = {points}"),
         ));
     }
-    let viewpoint = match viewpoint {
-        None => None,
-        Some((l, v)) => {
-            let vals: Option<Vec<f64>> = v.iter().map(|x| x.parse::<f64>().ok()).collect();
-            match vals.as_deref() {
-                Some(&[a, b, c, d, e, f, g])
-                    if [a, b, c, d, e, f, g].iter().all(|x| x.is_finite()) =>
-                {
-                    Some([a, b, c, d, e, f, g])
-                }
-                _ => {
-                    return Err(header_error(
-                        l,
-                        "VIEWPOINT needs 7 finite numbers: tx ty tz qw qx qy qz".into(),
-                    ));
-                }
-            }
-        }
+    Ok((width, h, points))
+}
+
+/// The `VIEWPOINT` `tx ty tz qw qx qy qz`, if the header has one.
+fn viewpoint_of(viewpoint: Entry) -> Result<Option<[f64; 7]>, CloudIoError> {
+    let Some((l, v)) = viewpoint else {
+        return Ok(None);
     };
-    Ok(PcdHeader {
-        fields: out_fields,
-        width,
-        height: h,
-        points,
-        viewpoint,
-        data,
-        body_offset: lines.pos(),
-        body_line: lines.line(),
-        data_line,
-    })
+    let vals: Option<Vec<f64>> = v.iter().map(|x| x.parse::<f64>().ok()).collect();
+    match vals.as_deref() {
+        Some(&[a, b, c, d, e, f, g]) if [a, b, c, d, e, f, g].iter().all(|x| x.is_finite()) => {
+            Ok(Some([a, b, c, d, e, f, g]))
+        }
+        _ => Err(header_error(
+            l,
+            "VIEWPOINT needs 7 finite numbers: tx ty tz qw qx qy qz".into(),
+        )),
+    }
 }

@@ -106,169 +106,22 @@ pub(crate) fn run(
     models: &[ViewModel],
     params: &RegistrationParams,
 ) -> Result<Registration, RegistrationError> {
-    let map = &params.map;
-    let views: &[MapView] = &prepared.views;
-    let origins: Vec<Point3<f64>> = views
-        .iter()
-        .zip(initial)
-        .map(|(v, p)| p * v.centre)
-        .collect();
-    let kernel = Kernel {
-        select: map.match_sigmas,
-        scale: map.kernel_scale,
-        cap: map.outlier_sigmas,
-        floor: map.floor_sigma,
-        max_distance: params.max_correspondence_distance,
-        along_rays: map.along_rays,
-    };
-    let reference = params.reference;
-    let pairs = select_pairs(
-        views,
-        initial,
-        reference,
-        &kernel,
-        map.pair_points,
-        map.view_to_view,
-    );
-    // Each pair's nearest-point cache: the one the last run on these views left, if any.
-    let keys: Vec<CacheKey> = pairs
-        .iter()
-        .map(|p| (p.source, p.target, p.stride, kernel.max_distance.to_bits()))
-        .collect();
-    let nearest = pairs
-        .iter()
-        .zip(&keys)
-        .map(|(pair, &key)| {
-            prepared
-                .take_cache(key)
-                .unwrap_or_else(|| PairNearest::new(views, pair, kernel.max_distance))
-        })
-        .collect();
-    let mut problem = Problem {
-        nearest: Mutex::new(nearest),
-        views,
-        pairs,
-        initial,
-        models,
-        origins,
-        kernel,
-        reference,
-    };
+    let (mut problem, keys) = Problem::new(prepared, initial, models, params);
     let w = clouds.len();
-    let mut held = vec![false; w];
-    let identity = vec![Pose::identity(); w];
-    // The start: each view's correction from its initial pose to its starting pose.
-    let mut corrections: Vec<Pose> = (0..w)
-        .map(|v| {
-            // Exactly the identity where the run starts at the initial pose.
-            if v == reference || start[v] == initial[v] {
-                Pose::identity()
-            } else {
-                start[v] * initial[v].inverse()
-            }
-        })
-        .collect();
-    let (mut iterations, mut evaluations) = (0, 0);
-    let mut stages = 0;
-    let mut lambda = LAMBDA_START;
-    // The correspondences at the initial poses, for the objective there at the end (a
-    // copy of the caches after the first evaluation, when it is at the initial poses:
-    // that evaluation then costs next to nothing again).
-    let mut at_initial: Option<Vec<PairNearest>> = None;
-    let mut first = corrections.iter().all(|c| *c == Pose::identity());
-    let (state, stop) = loop {
-        // Which points take part: those matched at the current poses.
-        problem.unmask();
-        let matched = problem.data(&corrections).matched;
-        if std::mem::take(&mut first) {
-            at_initial = Some(problem.caches().clone());
-        }
-        problem.mask(matched);
-        let (state, stop, its, evals) = problem.solve_gated(
-            problem.state(corrections.clone()),
-            &mut held,
-            &mut lambda,
-            params,
-        );
-        iterations += its;
-        evaluations += evals + 2;
-        stages += 1;
-        let moved = (0..w).any(|v| {
-            let d = state.corrections[v] * corrections[v].inverse();
-            let o = corrections[v] * problem.origins[v];
-            d.rotation.angle() > map.rotation_tolerance * 10.0
-                || (d * o - o).norm() > map.translation_tolerance * 10.0
-        });
-        corrections = state.corrections.clone();
-        if !moved || stages == map.max_stages || stop != StopReason::Converged {
-            break (state, stop);
-        }
-    };
-    // The final objective, and the same objective at the reported poses.
-    let objective_initial = match at_initial {
-        Some(mut caches) => {
-            problem.data_using(&identity, &mut caches).cost + problem.prior_cost(&identity)
-        }
-        None => problem.state(identity).objective,
-    };
-    evaluations += 1;
-
+    let corrections = starting_corrections(initial, start, params.reference, w);
+    let solution = problem.solve_in_stages(corrections, params);
     let poses: Vec<Pose> = (0..w)
         .map(|v| {
-            if v == reference {
+            if v == params.reference {
                 initial[v]
             } else {
-                state.corrections[v] * initial[v]
+                solution.state.corrections[v] * initial[v]
             }
         })
         .collect();
-    let rms = (state.data.inlier_count > 0)
-        .then(|| (state.data.sum_sq / state.data.inlier_count as f64).sqrt());
-    let view_reports: Vec<MapViewReport> = (0..w)
-        .map(|v| {
-            let xi = problem.correction(&state.corrections, v);
-            let h = state
-                .data
-                .hessian()
-                .fixed_view::<6, 6>(6 * v, 6 * v)
-                .into_owned();
-            MapViewReport {
-                inliers: state.data.inliers[v],
-                correction: xi.into(),
-                chi2: problem.chi2(&state.corrections, v),
-                held_at_prior: held[v],
-                unconstrained: v != reference && state.data.inliers[v] == 0,
-                data_information: h,
-            }
-        })
-        .collect();
-    let converged = stop == StopReason::Converged;
-    let fell = state.objective <= objective_initial;
-    let held_views: Vec<usize> = (0..w).filter(|&v| held[v]).collect();
-    let verdict = match (converged, fell) {
-        (false, _) => format!("not converged ({stop:?}): the reported poses are kept"),
-        (true, false) => "the objective did not fall: the reported poses are kept".into(),
-        (true, true) if held_views.is_empty() => {
-            "converged, the objective fell, every view within the χ² gate of its prior".into()
-        }
-        (true, true) => format!(
-            "converged, the objective fell; views {held_views:?} beyond the χ² gate kept their \
-             reported poses"
-        ),
-    };
-    let report = MapReport {
-        iterations,
-        evaluations,
-        stop,
-        objective_initial,
-        objective_final: state.objective,
-        pairs: problem.pairs.len(),
-        inliers: state.data.inlier_count,
-        rms,
-        accepted: converged && fell,
-        verdict,
-        views: view_reports,
-    };
+    let report = problem.report(&solution);
+    let converged = solution.stop == StopReason::Converged;
+    let rms = report.rms;
     let caches = problem
         .nearest
         .into_inner()
@@ -282,7 +135,242 @@ pub(crate) fn run(
     })
 }
 
+/// Each of the `w` views' correction from its initial pose to its starting pose: exactly
+/// the identity for the reference and where the run starts at the initial pose.
+fn starting_corrections(initial: &[Pose], start: &[Pose], reference: usize, w: usize) -> Vec<Pose> {
+    (0..w)
+        .map(|v| {
+            if v == reference || start[v] == initial[v] {
+                Pose::identity()
+            } else {
+                start[v] * initial[v].inverse()
+            }
+        })
+        .collect()
+}
+
+/// The outcome of the stages: the last state and why its solve stopped, the views held
+/// at their priors, the work done and the objective at the initial poses.
+struct Solution {
+    /// The final state.
+    state: State,
+    /// Why the last stage's solve stopped.
+    stop: StopReason,
+    /// Per view, whether the χ² gate held it at its prior.
+    held: Vec<bool>,
+    /// Steps accepted over all stages.
+    iterations: usize,
+    /// Objective evaluations over all stages.
+    evaluations: usize,
+    /// The objective at the initial poses (the reported ones).
+    objective_initial: f64,
+}
+
+/// The report's verdict in words: the registration is kept when it converged and the
+/// objective fell; the views the χ² gate held at their priors are named.
+fn verdict(stop: StopReason, fell: bool, held_views: &[usize]) -> String {
+    match (stop == StopReason::Converged, fell) {
+        (false, _) => format!("not converged ({stop:?}): the reported poses are kept"),
+        (true, false) => "the objective did not fall: the reported poses are kept".into(),
+        (true, true) if held_views.is_empty() => {
+            "converged, the objective fell, every view within the χ² gate of its prior".into()
+        }
+        (true, true) => format!(
+            "converged, the objective fell; views {held_views:?} beyond the χ² gate kept their \
+             reported poses"
+        ),
+    }
+}
+
+impl<'a> Problem<'a> {
+    /// The problem of a run: the sensor origins at the initial poses, the kernel, the
+    /// pairs of views and their nearest-point caches (the ones the last run on these views
+    /// left, if any), with the caches' keys.
+    fn new(
+        prepared: &'a MapPreparation,
+        initial: &'a [Pose],
+        models: &'a [ViewModel],
+        params: &RegistrationParams,
+    ) -> (Self, Vec<CacheKey>) {
+        let map = &params.map;
+        let views: &[MapView] = &prepared.views;
+        let origins: Vec<Point3<f64>> = views
+            .iter()
+            .zip(initial)
+            .map(|(v, p)| p * v.centre)
+            .collect();
+        let kernel = Kernel {
+            select: map.match_sigmas,
+            scale: map.kernel_scale,
+            cap: map.outlier_sigmas,
+            floor: map.floor_sigma,
+            max_distance: params.max_correspondence_distance,
+            along_rays: map.along_rays,
+        };
+        let reference = params.reference;
+        let pairs = select_pairs(
+            views,
+            initial,
+            reference,
+            &kernel,
+            map.pair_points,
+            map.view_to_view,
+        );
+        let keys: Vec<CacheKey> = pairs
+            .iter()
+            .map(|p| (p.source, p.target, p.stride, kernel.max_distance.to_bits()))
+            .collect();
+        let nearest = pairs
+            .iter()
+            .zip(&keys)
+            .map(|(pair, &key)| {
+                prepared
+                    .take_cache(key)
+                    .unwrap_or_else(|| PairNearest::new(views, pair, kernel.max_distance))
+            })
+            .collect();
+        let problem = Problem {
+            nearest: Mutex::new(nearest),
+            views,
+            pairs,
+            initial,
+            models,
+            origins,
+            kernel,
+            reference,
+        };
+        (problem, keys)
+    }
+}
+
 impl Problem<'_> {
+    /// The stages from `corrections`: each re-selects the points matched at the current
+    /// poses and solves (with the χ² gate) until no view moves, `max_stages` or a solve
+    /// that did not converge; then the objective at the initial poses.
+    fn solve_in_stages(
+        &mut self,
+        mut corrections: Vec<Pose>,
+        params: &RegistrationParams,
+    ) -> Solution {
+        let map = &params.map;
+        let w = corrections.len();
+        let mut held = vec![false; w];
+        let (mut iterations, mut evaluations) = (0, 0);
+        let mut stages = 0;
+        let mut lambda = LAMBDA_START;
+        // The correspondences at the initial poses, for the objective there at the end (a
+        // copy of the caches after the first evaluation, when it is at the initial poses:
+        // that evaluation then costs next to nothing again).
+        let mut at_initial: Option<Vec<PairNearest>> = None;
+        let mut first = corrections.iter().all(|c| *c == Pose::identity());
+        let (state, stop) = loop {
+            // Which points take part: those matched at the current poses.
+            self.unmask();
+            let matched = self.data(&corrections).matched;
+            if std::mem::take(&mut first) {
+                at_initial = Some(self.caches().clone());
+            }
+            self.mask(matched);
+            let (state, stop, its, evals) = self.solve_gated(
+                self.state(corrections.clone()),
+                &mut held,
+                &mut lambda,
+                params,
+            );
+            iterations += its;
+            evaluations += evals + 2;
+            stages += 1;
+            let moved = self.moved(&corrections, &state.corrections, params);
+            corrections = state.corrections.clone();
+            if !moved || stages == map.max_stages || stop != StopReason::Converged {
+                break (state, stop);
+            }
+        };
+        let objective_initial = self.objective_at_initial(at_initial, w);
+        evaluations += 1;
+        Solution {
+            state,
+            stop,
+            held,
+            iterations,
+            evaluations,
+            objective_initial,
+        }
+    }
+
+    /// Whether a stage moved any view from `before` to `after` by more than ten times the
+    /// convergence tolerances (about its sensor origin).
+    fn moved(&self, before: &[Pose], after: &[Pose], params: &RegistrationParams) -> bool {
+        let map = &params.map;
+        (0..before.len()).any(|v| {
+            let d = after[v] * before[v].inverse();
+            let o = before[v] * self.origins[v];
+            d.rotation.angle() > map.rotation_tolerance * 10.0
+                || (d * o - o).norm() > map.translation_tolerance * 10.0
+        })
+    }
+
+    /// The objective at the initial poses of the `w` views: with the correspondences kept
+    /// from there (`at_initial`) if any, else searched again.
+    fn objective_at_initial(&self, at_initial: Option<Vec<PairNearest>>, w: usize) -> f64 {
+        let identity = vec![Pose::identity(); w];
+        match at_initial {
+            Some(mut caches) => {
+                self.data_using(&identity, &mut caches).cost + self.prior_cost(&identity)
+            }
+            None => self.state(identity).objective,
+        }
+    }
+
+    /// The report of `solution`: the work done, the objective before and after, the
+    /// verdict and per view its correction, χ² and data information.
+    fn report(&self, solution: &Solution) -> MapReport {
+        let Solution {
+            state,
+            stop,
+            held,
+            iterations,
+            evaluations,
+            objective_initial,
+        } = solution;
+        let rms = (state.data.inlier_count > 0)
+            .then(|| (state.data.sum_sq / state.data.inlier_count as f64).sqrt());
+        let views: Vec<MapViewReport> = (0..held.len())
+            .map(|v| {
+                let xi = self.correction(&state.corrections, v);
+                let h = state
+                    .data
+                    .hessian()
+                    .fixed_view::<6, 6>(6 * v, 6 * v)
+                    .into_owned();
+                MapViewReport {
+                    inliers: state.data.inliers[v],
+                    correction: xi.into(),
+                    chi2: self.chi2(&state.corrections, v),
+                    held_at_prior: held[v],
+                    unconstrained: v != self.reference && state.data.inliers[v] == 0,
+                    data_information: h,
+                }
+            })
+            .collect();
+        let converged = *stop == StopReason::Converged;
+        let fell = state.objective <= *objective_initial;
+        let held_views: Vec<usize> = (0..held.len()).filter(|&v| held[v]).collect();
+        MapReport {
+            iterations: *iterations,
+            evaluations: *evaluations,
+            stop: *stop,
+            objective_initial: *objective_initial,
+            objective_final: state.objective,
+            pairs: self.pairs.len(),
+            inliers: state.data.inlier_count,
+            rms,
+            accepted: converged && fell,
+            verdict: verdict(*stop, fell, &held_views),
+            views,
+        }
+    }
+
     /// Every used point takes part.
     fn unmask(&mut self) {
         for pair in &mut self.pairs {
