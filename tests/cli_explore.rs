@@ -76,7 +76,7 @@ fn hybrid_explores_the_object_and_beats_the_laser_alone() {
     // point error, which adds the Dinast's centimetre noise. A registration fails when it
     // does not converge or leaves more than 1 cm of alignment error; the paper's p-ICP-GPA
     // and sequential ICP, which have no prior, may.
-    for key in ["error_unregistered", "error_gpa", "error_pgpa", "error_icp"] {
+    for key in ["error_unregistered", "error_map", "error_pgpa", "error_icp"] {
         let e = &o[key];
         let alignment = f(&e["alignment"]);
         assert!(alignment > 0.0 && alignment.is_finite(), "{key}: {e}");
@@ -89,9 +89,9 @@ fn hybrid_explores_the_object_and_beats_the_laser_alone() {
     // (measured on this horse: 5.5 -> 2.8 mm; the paper scenes' objects reach 0.2-0.4x).
     let (acquired, map) = (
         f(&o["error_unregistered"]["alignment"]),
-        f(&o["error_gpa"]["alignment"]),
+        f(&o["error_map"]["alignment"]),
     );
-    assert_eq!(o["error_gpa"]["accepted"], true, "{o:#}");
+    assert_eq!(o["error_map"]["accepted"], true, "{o:#}");
     assert!(map <= 0.6 * acquired, "map {map} vs acquired {acquired}");
     assert_eq!(o["registration"]["accepted"], true);
     assert_eq!(r["workcell_alignment"]["accepted"], true, "{r:#}");
@@ -200,7 +200,7 @@ fn same_seed_same_report_whatever_the_thread_count() {
         "{lean:#}"
     );
     assert!(lean["coverage_icp"].is_null());
-    for key in ["error_gpa", "error_unregistered", "quality", "coverage"] {
+    for key in ["error_map", "error_unregistered", "quality", "coverage"] {
         assert_eq!(full[key], lean[key], "{key}");
     }
 }

@@ -133,8 +133,8 @@ fn paper_env1_hybrid_is_the_same_on_one_and_two_threads() {
             o["name"]
         );
         let acquired = o["error_unregistered"]["alignment"].as_f64().unwrap();
-        let map = o["error_gpa"]["alignment"].as_f64().unwrap();
-        assert_eq!(o["error_gpa"]["accepted"], true, "{}", o["name"]);
+        let map = o["error_map"]["alignment"].as_f64().unwrap();
+        assert_eq!(o["error_map"]["accepted"], true, "{}", o["name"]);
         assert!(map <= 0.5 * acquired, "{}: {map} vs {acquired}", o["name"]);
         assert_eq!(o["registration_calibrated"], true, "{}", o["name"]);
     }

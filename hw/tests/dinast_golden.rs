@@ -1,5 +1,6 @@
 //! Golden fixtures of the Dinast IPA-1110, written by hand from the documented protocol
-//! (`/work/shared/FACTS.md`, "Dinast IPA-1110 (USB)"), not produced by the code under test:
+//! (the vendor's USB protocol and raw-to-distance model as `hw/src/dinast/` documents
+//! them), not produced by the code under test:
 //! a bulk packet with a few hand-placed raw pixels, decoded by the driver, and the distances
 //! and points of those pixels computed by hand from the documented raw-to-distance model;
 //! and the control transfers the driver issues, checked against the documented requests.

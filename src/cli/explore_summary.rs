@@ -38,7 +38,7 @@ pub fn summary(report: &ExploreReport) -> String {
             o.views.len(),
             o.viewpoints_failed.len(),
             mm(&o.error_unregistered),
-            mm(&o.error_gpa),
+            mm(&o.error_map),
             mm(&o.error_pgpa),
             mm(&o.error_icp),
             o.stop

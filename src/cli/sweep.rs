@@ -53,8 +53,8 @@ GATES (--require, repeatable)
   precision and completeness at 1 cm; misaligned views lower precision), f_score_mean,
   f_score_unregistered_mean (the views as acquired), coverage (smallest per-episode mean
   coverage), coverage_mean, collisions (total), views (total), failed_registrations
-  (p-ICP-GPA, total), error_gpa (largest per-episode mean alignment error, m),
-  error_gpa_mean, error_icp_mean, missed (objects no cluster matched, total), split
+  (p-ICP-GPA, total), error_map (largest per-episode mean alignment error, m),
+  error_map_mean, error_icp_mean, missed (objects no cluster matched, total), split
   (objects explored as several clusters, total), phantoms (clusters explored that are no
   object and no unknown obstacle, total). A failed
   gate prints the measured value and exits with status 4; the outputs are written all the
@@ -174,8 +174,8 @@ fn summary_text(s: &Summary, out: &Path, plots: &[String]) -> String {
         100.0 * a.coverage_mean,
         a.views,
         a.collisions,
-        1e3 * a.error_gpa_mean,
-        1e3 * a.error_gpa,
+        1e3 * a.error_map_mean,
+        1e3 * a.error_map,
         // Sweeps without the baselines have no ICP figure.
         if s.registration.iter().any(|l| l.icp.is_some()) {
             format!("{:.1} mm", 1e3 * a.error_icp_mean)
@@ -236,7 +236,7 @@ fn summary_text(s: &Summary, out: &Path, plots: &[String]) -> String {
                 q(l.map_quantiles),
                 q_or_dash(l.pgpa_quantiles),
                 q_or_dash(l.icp_quantiles),
-                l.gpa_failures,
+                l.map_failures,
                 l.pgpa_failures,
                 l.icp_failures,
                 l.worse_than_acquired,

@@ -246,7 +246,7 @@ pub fn finish(
         aggregate,
         best_by_f_score: best_setting(rows, |r| r.f_score, true),
         best_by_coverage_per_view: best_setting(rows, |r| r.coverage_gain_per_view, true),
-        best_by_registration_error: best_setting(rows, |r| r.error_gpa, false),
+        best_by_registration_error: best_setting(rows, |r| r.error_map, false),
         registration: registration_table(rows),
         robustness: robustness_table(rows),
         objectives: crate::objectives::objective_table(rows),

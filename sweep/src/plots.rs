@@ -388,7 +388,7 @@ fn registration_vs_level(rows: &[EpisodeRow]) -> Result<String> {
     type Pick = fn(&crate::results::ObjectRegistrationRow) -> Option<f64>;
     let methods: [(&str, Pick, RGBColor); 4] = [
         ("as acquired", |r| Some(r.acquired), RGBColor(120, 120, 120)),
-        ("map (the model's)", |r| Some(r.gpa), RGBColor(31, 119, 180)),
+        ("map (the model's)", |r| Some(r.map), RGBColor(31, 119, 180)),
         ("p-ICP-GPA (paper)", |r| r.pgpa, RGBColor(255, 127, 14)),
         ("sequential ICP", |r| r.icp, RGBColor(44, 160, 44)),
     ];

@@ -183,7 +183,7 @@ pub struct ObjectEntry {
     pub error_unregistered: Option<RegistrationScore>,
     /// The method the model uses: the MAP registration (noise-weighted, with the rig's
     /// pose prior).
-    pub error_gpa: Option<RegistrationScore>,
+    pub error_map: Option<RegistrationScore>,
     /// The paper's p-ICP-GPA.
     pub error_pgpa: Option<RegistrationScore>,
     /// The MAP registration in detail: the verdict, per view the correction, its χ² and
@@ -343,11 +343,11 @@ pub struct Totals {
     /// Joint-space length (rad) of the planned paths to all views taken.
     pub joint_distance: f64,
     /// Mean alignment error of the model's registration over objects (m).
-    pub mean_error_gpa: Option<f64>,
+    pub mean_error_map: Option<f64>,
     /// Mean sequential ICP error (m).
     pub mean_error_icp: Option<f64>,
     /// Registrations that failed, per method.
-    pub failed_gpa: usize,
+    pub failed_map: usize,
     /// Failed sequential ICP registrations.
     pub failed_icp: usize,
     /// Short-range views that added less than [`WASTED_VIEW_GAIN`] of coverage, over the
@@ -610,7 +610,7 @@ fn object_entry(
             .map(|v| v.plan.length_after_shortcut)
             .sum(),
         error_unregistered: scores.unregistered,
-        error_gpa: scores.map,
+        error_map: scores.map,
         error_pgpa: scores.pgpa,
         registration: map_report,
         registration_calibrated: object.registration.as_ref().is_some_and(|r| r.calibrated),
@@ -766,10 +766,10 @@ fn totals(objects: &[ObjectEntry], exploration: &Exploration) -> Totals {
         mean_f_score_unregistered: f_scores(|o| o.quality_unregistered),
         mean_coverage: mean(coverages).unwrap_or(0.0),
         joint_distance: objects.iter().map(|o| o.joint_distance).sum(),
-        mean_error_gpa: mean(
+        mean_error_map: mean(
             objects
                 .iter()
-                .filter_map(|o| o.error_gpa.as_ref().map(|e| e.mean))
+                .filter_map(|o| o.error_map.as_ref().map(|e| e.mean))
                 .collect(),
         ),
         mean_error_icp: mean(
@@ -778,9 +778,9 @@ fn totals(objects: &[ObjectEntry], exploration: &Exploration) -> Totals {
                 .filter_map(|o| o.error_icp.as_ref().map(|e| e.mean))
                 .collect(),
         ),
-        failed_gpa: objects
+        failed_map: objects
             .iter()
-            .filter(|o| o.error_gpa.as_ref().is_some_and(|e| e.failed))
+            .filter(|o| o.error_map.as_ref().is_some_and(|e| e.failed))
             .count(),
         failed_icp: objects
             .iter()

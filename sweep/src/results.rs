@@ -75,14 +75,18 @@ pub struct EpisodeRow {
     pub coverage_mid_range: f64,
     /// (coverage − coverage_mid_range) / (views per object): what a view adds.
     pub coverage_gain_per_view: f64,
-    /// Mean alignment error of p-ICP-GPA over the registered objects (m).
-    pub error_gpa: f64,
+    /// Mean alignment error of the model's registration (the MAP) over the registered
+    /// objects (m). Read as `error_gpa` from rows written before it had its name.
+    #[serde(alias = "error_gpa")]
+    pub error_map: f64,
     /// Mean alignment error of sequential ICP (m).
     pub error_icp: f64,
     /// Mean alignment error of the views as acquired (m).
     pub error_unregistered: f64,
-    /// p-ICP-GPA registrations that failed (not accepted).
-    pub failed_gpa: usize,
+    /// The model's registrations (the MAP) that failed (not accepted). Read as
+    /// `failed_gpa` from older rows.
+    #[serde(alias = "failed_gpa")]
+    pub failed_map: usize,
     /// Sequential-ICP registrations that failed.
     pub failed_icp: usize,
     /// Per object: (name, GPA alignment, ICP alignment, GPA failed, ICP failed).
@@ -139,13 +143,15 @@ pub struct ObjectRegistrationRow {
     /// Object name.
     pub object: String,
     /// The model's registration (MAP): mean alignment error (m).
-    pub gpa: f64,
+    #[serde(alias = "gpa")]
+    pub map: f64,
     /// Sequential-ICP mean alignment error (m); `None` when the episode ran without the
     /// baselines (`registration.baselines = false`).
     #[serde(default)]
     pub icp: Option<f64>,
     /// The model's registration failed.
-    pub gpa_failed: bool,
+    #[serde(alias = "gpa_failed")]
+    pub map_failed: bool,
     /// Sequential ICP failed.
     pub icp_failed: bool,
     /// The error level of the episode (`errors.scale`, 1 unless swept).
@@ -213,13 +219,13 @@ impl EpisodeRow {
             .filter(|o| o.truth == "object")
             .filter_map(|o| {
                 // The baselines are absent when the episode skipped them.
-                let (g, a) = (o.error_gpa.as_ref()?, o.error_unregistered.as_ref()?);
+                let (g, a) = (o.error_map.as_ref()?, o.error_unregistered.as_ref()?);
                 let (i, p) = (o.error_icp.as_ref(), o.error_pgpa.as_ref());
                 Some(ObjectRegistrationRow {
                     object: o.name.clone(),
-                    gpa: g.alignment,
+                    map: g.alignment,
                     icp: i.map(|i| i.alignment),
-                    gpa_failed: g.failed,
+                    map_failed: g.failed,
                     icp_failed: i.is_some_and(|i| i.failed),
                     level,
                     acquired: a.alignment,
@@ -275,10 +281,10 @@ impl EpisodeRow {
             } else {
                 0.0
             },
-            error_gpa: alignment(&|o| o.error_gpa.as_ref().map(|e| e.alignment)),
+            error_map: alignment(&|o| o.error_map.as_ref().map(|e| e.alignment)),
             error_icp: alignment(&|o| o.error_icp.as_ref().map(|e| e.alignment)),
             error_unregistered: alignment(&|o| o.error_unregistered.as_ref().map(|e| e.alignment)),
-            failed_gpa: registrations.iter().filter(|r| r.gpa_failed).count(),
+            failed_map: registrations.iter().filter(|r| r.map_failed).count(),
             failed_icp: registrations.iter().filter(|r| r.icp_failed).count(),
             registrations,
             coverage_by_view: mean_curve(
@@ -376,10 +382,10 @@ const METRICS: [&str; 35] = [
     "coverage_min",
     "coverage_mid_range",
     "coverage_gain_per_view",
-    "error_gpa",
+    "error_map",
     "error_icp",
     "error_unregistered",
-    "failed_gpa",
+    "failed_map",
     "failed_icp",
     "joint_distance",
     "wasted_views",
@@ -434,10 +440,10 @@ pub fn csv_text(rows: &[EpisodeRow]) -> Result<String> {
             format!("{:.6}", r.coverage_min),
             format!("{:.6}", r.coverage_mid_range),
             format!("{:.6}", r.coverage_gain_per_view),
-            format!("{:.6}", r.error_gpa),
+            format!("{:.6}", r.error_map),
             format!("{:.6}", r.error_icp),
             format!("{:.6}", r.error_unregistered),
-            r.failed_gpa.to_string(),
+            r.failed_map.to_string(),
             r.failed_icp.to_string(),
             format!("{:.6}", r.joint_distance),
             r.wasted_views.to_string(),
@@ -479,10 +485,10 @@ pub struct Aggregate {
     pub views: usize,
     /// Failed p-ICP-GPA registrations, all episodes.
     pub failed_registrations: usize,
-    /// Largest per-episode mean p-ICP-GPA alignment error (m).
-    pub error_gpa: f64,
-    /// Mean per-episode p-ICP-GPA alignment error (m).
-    pub error_gpa_mean: f64,
+    /// Largest per-episode mean alignment error of the model's registration (m).
+    pub error_map: f64,
+    /// Mean per-episode alignment error of the model's registration (m).
+    pub error_map_mean: f64,
     /// Mean per-episode sequential-ICP alignment error (m).
     pub error_icp_mean: f64,
     /// Scene objects no cluster matched, all episodes.
@@ -514,7 +520,7 @@ impl Aggregate {
     pub fn of(rows: &[EpisodeRow]) -> Self {
         let cov: Vec<f64> = rows.iter().map(|r| r.coverage).collect();
         let f: Vec<f64> = rows.iter().map(|r| r.f_score).collect();
-        let gpa: Vec<f64> = rows.iter().map(|r| r.error_gpa).collect();
+        let gpa: Vec<f64> = rows.iter().map(|r| r.error_map).collect();
         let time: f64 = rows.iter().map(|r| r.time_s).sum();
         Self {
             // No episode: a gate on the F-score then fails.
@@ -539,9 +545,9 @@ impl Aggregate {
             coverage_mean: mean(&cov),
             collisions: rows.iter().map(|r| r.collisions).sum(),
             views: rows.iter().map(|r| r.views).sum(),
-            failed_registrations: rows.iter().map(|r| r.failed_gpa).sum(),
-            error_gpa: gpa.iter().copied().fold(0.0, f64::max),
-            error_gpa_mean: mean(&gpa),
+            failed_registrations: rows.iter().map(|r| r.failed_map).sum(),
+            error_map: gpa.iter().copied().fold(0.0, f64::max),
+            error_map_mean: mean(&gpa),
             error_icp_mean: mean(&rows.iter().map(|r| r.error_icp).collect::<Vec<_>>()),
             missed: rows.iter().map(|r| r.missed).sum(),
             split: rows.iter().map(|r| r.split).sum(),
@@ -592,8 +598,9 @@ impl Aggregate {
             "collisions" => self.collisions as f64,
             "views" => self.views as f64,
             "failed_registrations" => self.failed_registrations as f64,
-            "error_gpa" => self.error_gpa,
-            "error_gpa_mean" => self.error_gpa_mean,
+            // `error_gpa*`: the names older CI scripts gate on.
+            "error_map" | "error_gpa" => self.error_map,
+            "error_map_mean" | "error_gpa_mean" => self.error_map_mean,
             "error_icp_mean" => self.error_icp_mean,
             "missed" => self.missed as f64,
             "split" => self.split as f64,
@@ -619,8 +626,8 @@ impl Aggregate {
         "collisions",
         "views",
         "failed_registrations",
-        "error_gpa",
-        "error_gpa_mean",
+        "error_map",
+        "error_map_mean",
         "error_icp_mean",
         "missed",
         "split",
@@ -684,12 +691,13 @@ pub struct RegistrationLine {
     pub object: String,
     /// Registrations (episodes that registered it).
     pub experiments: usize,
-    /// p-ICP-GPA mean and standard deviation of the alignment error (m).
-    pub gpa: (f64, f64),
+    /// The model's registration (the MAP): mean and standard deviation of the alignment
+    /// error (m).
+    pub map: (f64, f64),
     /// Sequential ICP mean and standard deviation (m); `None` when no episode ran it.
     pub icp: Option<(f64, f64)>,
-    /// p-ICP-GPA failures.
-    pub gpa_failures: usize,
+    /// The model's registration's failures.
+    pub map_failures: usize,
     /// Sequential-ICP failures.
     pub icp_failures: usize,
     /// Median and 95th percentile of the alignment error as acquired (m).
@@ -802,7 +810,7 @@ pub fn registration_table(rows: &[EpisodeRow]) -> Vec<RegistrationLine> {
     }
     by.into_iter()
         .map(|((level, object), v)| {
-            let g: Vec<f64> = v.iter().map(|o| o.gpa).collect();
+            let g: Vec<f64> = v.iter().map(|o| o.map).collect();
             let i: Vec<f64> = v.iter().filter_map(|o| o.icp).collect();
             let a: Vec<f64> = v.iter().map(|o| o.acquired).collect();
             let p: Vec<f64> = v.iter().filter_map(|o| o.pgpa).collect();
@@ -819,12 +827,12 @@ pub fn registration_table(rows: &[EpisodeRow]) -> Vec<RegistrationLine> {
                 icp_quantiles: ran(&i),
                 pgpa_failures: v.iter().filter(|o| o.pgpa_failed).count(),
                 unconverged: v.iter().filter(|o| !o.converged).count(),
-                worse_than_acquired: v.iter().filter(|o| o.gpa > o.acquired + 5e-4).count(),
+                worse_than_acquired: v.iter().filter(|o| o.map > o.acquired + 5e-4).count(),
                 object,
                 experiments: v.len(),
-                gpa: (mean(&g), std_dev(&g)),
+                map: (mean(&g), std_dev(&g)),
                 icp: (!i.is_empty()).then(|| (mean(&i), std_dev(&i))),
-                gpa_failures: v.iter().filter(|o| o.gpa_failed).count(),
+                map_failures: v.iter().filter(|o| o.map_failed).count(),
                 icp_failures: v.iter().filter(|o| o.icp_failed).count(),
             }
         })
@@ -862,16 +870,16 @@ pub(crate) mod tests {
             precision: 0.9,
             coverage_mid_range: 0.4,
             coverage_gain_per_view: (coverage - 0.4) / 2.0,
-            error_gpa: gpa,
+            error_map: gpa,
             error_icp: 2.0 * gpa,
             error_unregistered: gpa,
-            failed_gpa: 0,
+            failed_map: 0,
             failed_icp: 1,
             registrations: vec![ObjectRegistrationRow {
                 object: "jug".into(),
-                gpa,
+                map: gpa,
                 icp: Some(2.0 * gpa),
-                gpa_failed: false,
+                map_failed: false,
                 icp_failed: true,
                 level: 1.0,
                 acquired: 1.5 * gpa,
@@ -898,6 +906,28 @@ pub(crate) mod tests {
         }
     }
 
+    /// Rows written when the model's registration was named after p-ICP-GPA still load,
+    /// and the gate still answers to the old metric names.
+    #[test]
+    fn rows_with_the_old_registration_names_still_load() {
+        let r = row(0, "4", 0.9, 0.002);
+        let old = serde_json::to_string(&r)
+            .unwrap()
+            .replace("\"error_map\"", "\"error_gpa\"")
+            .replace("\"failed_map\"", "\"failed_gpa\"")
+            .replace("\"map\"", "\"gpa\"")
+            .replace("\"map_failed\"", "\"gpa_failed\"");
+        assert!(
+            old.contains("\"error_gpa\"") && old.contains("\"gpa_failed\""),
+            "{old}"
+        );
+        let back: EpisodeRow = serde_json::from_str(&old).unwrap();
+        assert_eq!(back, r);
+        let a = Aggregate::of(&[r]);
+        assert_eq!(a.metric("error_gpa"), a.metric("error_map"));
+        assert_eq!(a.metric("error_gpa_mean"), Some(a.error_map_mean));
+    }
+
     #[test]
     fn aggregates_best_and_table() {
         let rows = [
@@ -917,21 +947,21 @@ pub(crate) mod tests {
             ("4.0", 1)
         );
         assert!((a.coverage_mean - 2.3 / 3.0).abs() < 1e-12);
-        assert_eq!(a.error_gpa, 0.03);
+        assert_eq!(a.error_map, 0.03);
         assert_eq!(a.episodes_per_hour, 360.0);
         let best = best_setting(&rows, |r| r.coverage, true).unwrap();
         assert_eq!(best.setting["nbv.alpha_u"], "4.0");
-        let best = best_setting(&rows, |r| r.error_gpa, false).unwrap();
+        let best = best_setting(&rows, |r| r.error_map, false).unwrap();
         assert_eq!(
             (best.setting["nbv.alpha_u"].as_str(), best.episodes),
             ("2.0", 2)
         );
         let t = registration_table(&rows);
         assert_eq!(
-            (t[0].experiments, t[0].gpa_failures, t[0].icp_failures),
+            (t[0].experiments, t[0].map_failures, t[0].icp_failures),
             (3, 0, 3)
         );
-        assert!((t[0].gpa.0 - 0.02).abs() < 1e-12);
+        assert!((t[0].map.0 - 0.02).abs() < 1e-12);
         // Medians of F (0.7, 0.5, 0.8) and as acquired (0.6, 0.4, 0.7).
         assert!((t[0].f_score_medians.0 - 0.6).abs() < 1e-12);
         assert!((t[0].f_score_medians.1 - 0.7).abs() < 1e-12);

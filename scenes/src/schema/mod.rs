@@ -4,7 +4,8 @@
 //! them in file order and then checks the scene's geometry.
 //!
 //! Defaults are the paper's values where it gives them (Aleotti et al. 2014), OctoMap's and
-//! OpenRAVE's where it is silent (see `shared/FACTS.md`), and a stated assumption otherwise.
+//! OpenRAVE's where it is silent, and a stated assumption otherwise (each key's doc says
+//! which).
 
 mod check;
 mod error_model;

@@ -1,7 +1,7 @@
 //! View objectives beside the paper's eq. (4): the seven volumetric information gains of
 //! Isler et al. (ICRA 2016) and Delmerico et al. (Auton. Robots 2018), as
-//! `rpg_ig_active_reconstruction` defines them (facts: `shared/facts/nbv-objectives.md`),
-//! and Isler's movement-cost utility.
+//! the authors' `rpg_ig_active_reconstruction` library defines them, and Isler's
+//! movement-cost utility.
 //!
 //! - [`Objective`]: the choice (`[nbv] objective`);
 //! - [`cast_ray`], [`RayVoxel`], [`VoxelClass`], [`entropy`]: a camera ray through the full

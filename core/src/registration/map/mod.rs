@@ -1,6 +1,7 @@
 //! The pipeline's default registration: a maximum a posteriori estimate of every view's
 //! pose, the reference view fixed as the anchor (multi-view LM-ICP with priors; Fantoni et
-//! al. 2012, with the noise and prior terms of `facts/registration.md`).
+//! al. 2012, with each sensor's range noise along its rays and a prior from the rig's pose
+//! uncertainty).
 //!
 //! The objective is `F = Σ_pairs weight·ρ(data) + Σ_views ½·ξᵀ Λ ξ`:
 //! - the data term ([`terms`]): every point of a non-reference view
