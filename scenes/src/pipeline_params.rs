@@ -1,15 +1,45 @@
 //! The scene's sections as the pipeline's parameter types: the workspace as a
 //! [`GridGeometry`], `[mapping]` as [`OccupancyParams`], `[segmentation]` as
-//! [`SegmentationParams`], and the whole of phase 1 as a [`PhaseOneConfig`].
+//! [`SegmentationParams`], and the whole of phase 1 as a [`PhaseOneConfig`] — of a scene,
+//! or without one ([`default_phase_one_config`]).
 
 use crate::error::{Problem, SceneError};
 use crate::placed::obstacle_local_mesh;
 use crate::scene::Scene;
-use crate::schema::{Mapping, Segmentation, Workspace};
+use crate::schema::{Mapping, MidRangeSensor, Segmentation, Workspace};
 use nalgebra::{Isometry3, Point3, Vector3};
 use nbv_core::math::Pose;
-use nbv_core::occupancy::{GridGeometry, OccupancyParams};
+use nbv_core::occupancy::{GridGeometry, OccupancyError, OccupancyParams};
 use nbv_core::perception::{OrientedBox, PhaseOneConfig, SegmentationParams};
+
+/// The paper's workspace: x ∈ [0.30, 1.50], y ∈ [−0.70, 0.70], z ∈ [0.23, 0.83] m at
+/// 0.02 m (one voxel layer at the table top).
+pub const PAPER_WORKSPACE: Workspace = Workspace {
+    min: [0.30, -0.70, 0.23],
+    max: [1.50, 0.70, 0.83],
+    resolution: 0.02,
+};
+
+/// Phase 1 without a scene (`nbv map` without `--scene`): the grid over
+/// [`PAPER_WORKSPACE`], the scene schema's `[segmentation]` and `[mapping]` defaults, the
+/// mid-range sensor's default maximum range, the workspace as the region and nothing
+/// excluded.
+///
+/// ```
+/// let c = nbv_scenes::pipeline_params::default_phase_one_config().unwrap();
+/// assert_eq!(c.grid.len(), 126_000);
+/// assert_eq!(c.max_range, 3.0);
+/// assert!(c.exclude.is_empty());
+/// ```
+pub fn default_phase_one_config() -> Result<PhaseOneConfig, OccupancyError> {
+    let w = PAPER_WORKSPACE;
+    let grid = GridGeometry::new(Point3::from(w.min), Point3::from(w.max), w.resolution)?;
+    let mut config = PhaseOneConfig::new(grid);
+    config.segmentation = Segmentation::default().params(SegmentationParams::default().seed);
+    config.occupancy = Mapping::default().occupancy_params();
+    config.max_range = MidRangeSensor::default().range[1];
+    Ok(config)
+}
 
 impl Workspace {
     /// The grid's lattice: `dims()` voxels of `resolution` from `min`.

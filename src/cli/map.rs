@@ -1,24 +1,19 @@
 //! `nbv map`: phase 1 on a mid-range cloud file — object clusters, the occupancy grid and
 //! its reduced map — printed as statistics and written as `grid.nbvgrid`, `clusters.ply`
-//! and `stats.json`. The pipeline itself is `nbv_core::perception::phase_one`; this file
-//! only reads, prints and writes.
+//! and `stats.json`. The pipeline itself is `nbv_core::perception::phase_one`, the
+//! configuration without a scene `nbv_scenes::pipeline_params::default_phase_one_config`,
+//! the files `nbv_sweep::map_stats`; this file parses the arguments and prints.
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use nalgebra::Point3;
 use nbv_core::cloud::PointCloud;
-use nbv_core::cloud::io::{
-    ReadOptions, WriteOptions, read_cloud_with, write_atomically, write_cloud,
-};
-use nbv_core::occupancy::GridGeometry;
-use nbv_core::perception::{PhaseOne, PhaseOneConfig, SegmentationParams, phase_one};
-use nbv_scenes::schema::{Mapping, MidRangeSensor, Segmentation};
+use nbv_core::cloud::io::{ReadOptions, read_cloud_with};
+use nbv_core::perception::{PhaseOne, PhaseOneConfig, phase_one};
+use nbv_scenes::pipeline_params::default_phase_one_config;
+use nbv_sweep::map_stats::{share, stats_json, write_map_files};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-
-/// The paper's workspace, used when no scene is given: 1.20 × 1.40 × 0.60 m at 2 cm.
-const DEFAULT_WORKSPACE: ([f64; 3], [f64; 3], f64) =
-    ([0.30, -0.70, 0.23], [1.50, 0.70, 0.83], 0.02);
 
 /// Arguments of `nbv map`.
 #[derive(Debug, Args)]
@@ -69,7 +64,10 @@ pub fn run(args: MapArgs) -> Result<()> {
                 .with_context(|| format!("phase-1 parameters of {s}"))?;
             (config, Some(scene.name))
         }
-        None => (default_config()?, None),
+        None => (
+            default_phase_one_config().context("the default workspace")?,
+            None,
+        ),
     };
     let file = read_cloud_with(&args.cloud, &ReadOptions::default())
         .with_context(|| format!("reading {}", args.cloud.display()))?;
@@ -80,22 +78,7 @@ pub fn run(args: MapArgs) -> Result<()> {
             file.dropped_non_finite
         );
     }
-    let origin_source = match (args.origin, cloud.origins.is_some()) {
-        (Some(o), had) => {
-            if had {
-                eprintln!("note: --origin replaces the cloud's own sensor origins");
-            }
-            cloud.origins = Some(vec![o; cloud.len()]);
-            "--origin"
-        }
-        (None, true) => "cloud",
-        (None, false) => bail!(
-            "{}: the cloud has no per-point sensor origins (PLY `ox oy oz`, PCD `vp_x vp_y \
-             vp_z` or VIEWPOINT), so its rays cannot be cast into the occupancy grid; give \
-             the sensor position with --origin x,y,z",
-            args.cloud.display()
-        ),
-    };
+    let origin_source = sensor_origins(&args, &mut cloud)?;
     if cloud.is_empty() {
         bail!("{}: the cloud has no points", args.cloud.display());
     }
@@ -113,24 +96,7 @@ pub fn run(args: MapArgs) -> Result<()> {
         &result,
         elapsed,
     );
-
-    std::fs::create_dir_all(&args.output)
-        .with_context(|| format!("creating {}", args.output.display()))?;
-    let grid_path = args.output.join("grid.nbvgrid");
-    result
-        .map
-        .grid
-        .save(&grid_path)
-        .with_context(|| format!("writing {}", grid_path.display()))?;
-    let clusters_path = args.output.join("clusters.ply");
-    write_cloud(
-        &clusters_path,
-        &result.segmentation.labelled_clusters(),
-        &WriteOptions::default(),
-    )
-    .with_context(|| format!("writing {}", clusters_path.display()))?;
-    let stats_path = args.output.join("stats.json");
-    let stats = nbv_sweep::map_stats::stats_json(
+    let stats = stats_json(
         &args.cloud,
         &cloud,
         origin_source,
@@ -138,17 +104,12 @@ pub fn run(args: MapArgs) -> Result<()> {
         &config,
         &result,
     );
-    let text = serde_json::to_string_pretty(&stats).context("serialising the statistics")? + "\n";
-    write_atomically(&stats_path, |w| {
-        w.write_all(text.as_bytes())
-            .map_err(nbv_core::cloud::io::CloudIoError::from)
-    })
-    .with_context(|| format!("writing {}", stats_path.display()))?;
+    let files = write_map_files(&args.output, &result, &stats)?;
     println!(
         "wrote {}, {}, {}",
-        grid_path.display(),
-        clusters_path.display(),
-        stats_path.display()
+        files.grid.display(),
+        files.clusters.display(),
+        files.stats.display()
     );
     if args.pictures {
         super::render::map_pictures_or_warn(
@@ -161,16 +122,25 @@ pub fn run(args: MapArgs) -> Result<()> {
     Ok(())
 }
 
-/// Phase 1 without a scene: the paper's workspace and the scene schema's defaults.
-fn default_config() -> Result<PhaseOneConfig> {
-    let (min, max, res) = DEFAULT_WORKSPACE;
-    let grid = GridGeometry::new(Point3::from(min), Point3::from(max), res)
-        .context("the default workspace")?;
-    let mut config = PhaseOneConfig::new(grid);
-    config.segmentation = Segmentation::default().params(SegmentationParams::default().seed);
-    config.occupancy = Mapping::default().occupancy_params();
-    config.max_range = MidRangeSensor::default().range[1];
-    Ok(config)
+/// Where the cloud's sensor origins come from: `--origin` (which replaces the cloud's
+/// own, with a note) or the cloud; an error without either.
+fn sensor_origins(args: &MapArgs, cloud: &mut PointCloud) -> Result<&'static str> {
+    match (args.origin, cloud.origins.is_some()) {
+        (Some(o), had) => {
+            if had {
+                eprintln!("note: --origin replaces the cloud's own sensor origins");
+            }
+            cloud.origins = Some(vec![o; cloud.len()]);
+            Ok("--origin")
+        }
+        (None, true) => Ok("cloud"),
+        (None, false) => bail!(
+            "{}: the cloud has no per-point sensor origins (PLY `ox oy oz`, PCD `vp_x vp_y \
+             vp_z` or VIEWPOINT), so its rays cannot be cast into the occupancy grid; give \
+             the sensor position with --origin x,y,z",
+            args.cloud.display()
+        ),
+    }
 }
 
 fn fmt_point(p: &Point3<f64>) -> String {
@@ -250,11 +220,11 @@ fn print_summary(
     );
     println!(
         "  occupied {:.1}% ({}), empty {:.1}% ({}), unknown {:.1}% ({})",
-        100.0 * nbv_sweep::map_stats::share(s.grid.occupied, n),
+        100.0 * share(s.grid.occupied, n),
         s.grid.occupied,
-        100.0 * nbv_sweep::map_stats::share(s.grid.empty, n),
+        100.0 * share(s.grid.empty, n),
         s.grid.empty,
-        100.0 * nbv_sweep::map_stats::share(s.grid.unknown, n),
+        100.0 * share(s.grid.unknown, n),
         s.grid.unknown
     );
     println!(

@@ -1,19 +1,18 @@
 //! `nbv register VIEW…`: global registration of user-supplied views (PLY or PCD) by
-//! p-ICP-GPA or the sequential ICP baseline; writes one 4×4 transform per view (JSON) and
-//! the merged model cloud, both only once everything has succeeded.
+//! p-ICP-GPA, the MAP registration or the sequential ICP baseline; writes one 4×4
+//! transform per view (JSON) and the merged model cloud, both only once everything has
+//! succeeded (`nbv_core::registration::RegistrationFiles`). This file parses the
+//! arguments, reads the views and prints.
 
 use anyhow::{Context, Result, anyhow, bail};
 use clap::{Args, ValueEnum};
 use nbv_core::cloud::PointCloud;
-use nbv_core::cloud::io::{
-    CloudFormat, CloudIoError, WriteOptions, read_cloud_with, write_atomically, write_pcd,
-    write_ply,
-};
+use nbv_core::cloud::io::{CloudFormat, read_cloud_with};
 use nbv_core::math::Pose;
-use nbv_core::math::pose_file::{parse_poses, poses_json};
+use nbv_core::math::pose_file::parse_poses;
 use nbv_core::registration::{
-    Method, MethodReport, PosePrior, RangeNoise, RegistrationParams, SetRule, ViewModel,
-    register_with_models,
+    Method, MethodReport, PosePrior, RangeNoise, RegistrationFiles, RegistrationParams, SetRule,
+    ViewModel, register_with_models,
 };
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -149,6 +148,66 @@ impl MethodArg {
 /// Runs `nbv register …`.
 pub fn run(args: RegisterArgs) -> Result<ExitCode> {
     let names = file_names(&args.views)?;
+    check_views_and_outputs(&args)?;
+    let views = args
+        .views
+        .iter()
+        .map(|path| read_view(path))
+        .collect::<Result<Vec<_>>>()?;
+    let initial = match &args.init {
+        Some(path) => read_poses(path, &names)?,
+        None => vec![Pose::identity(); views.len()],
+    };
+    let (params, models) = registration_params(&args, views.len())?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .context("cannot start the worker threads")?;
+    let start = Instant::now();
+    let registration = pool
+        .install(|| register_with_models(&views, &initial, &models, &params))
+        .map_err(|e| anyhow!(name_view(&e.to_string(), &args.views)))?;
+    let elapsed = start.elapsed();
+    let model = registration.merged(&views)?;
+    RegistrationFiles {
+        model: &args.output,
+        poses: &args.poses,
+        report: args.report.as_deref(),
+    }
+    .write(&names, &registration, &model)?;
+
+    let points: usize = views.iter().map(PointCloud::len).sum();
+    let rms = registration
+        .rms
+        .map_or("-".to_string(), |r| format!("{:.3} mm", r * 1e3));
+    println!(
+        "registered {} views ({points} points) by {} in {:.1} ms: {}, rms {rms}; {}",
+        views.len(),
+        args.method.name(),
+        elapsed.as_secs_f64() * 1e3,
+        if registration.converged {
+            "converged"
+        } else {
+            "NOT converged"
+        },
+        method_detail(&registration.report, &names, &args.views),
+    );
+    println!(
+        "wrote {} and {}",
+        args.output.display(),
+        args.poses.display()
+    );
+    if registration.converged {
+        Ok(ExitCode::SUCCESS)
+    } else {
+        eprintln!("warning: the registration did not converge; the poses may be wrong");
+        Ok(ExitCode::from(NOT_CONVERGED))
+    }
+}
+
+/// Checks the arguments before reading anything: two views or more, the reference among
+/// them, no output that is also a view, a cloud extension for the model.
+fn check_views_and_outputs(args: &RegisterArgs) -> Result<()> {
     if args.views.len() < 2 {
         bail!(
             "registration needs at least 2 views, got {} ({})",
@@ -173,16 +232,15 @@ pub fn run(args: RegisterArgs) -> Result<ExitCode> {
     }
     CloudFormat::from_path(&args.output)
         .with_context(|| format!("output model {}", args.output.display()))?;
+    Ok(())
+}
 
-    let views = args
-        .views
-        .iter()
-        .map(|path| read_view(path))
-        .collect::<Result<Vec<_>>>()?;
-    let initial = match &args.init {
-        Some(path) => read_poses(path, &names)?,
-        None => vec![Pose::identity(); views.len()],
-    };
+/// The registration's parameters from the options, validated, and the model of each of the
+/// `n` views (the range noise and the pose prior).
+fn registration_params(
+    args: &RegisterArgs,
+    n: usize,
+) -> Result<(RegistrationParams, Vec<ViewModel>)> {
     let params = RegistrationParams {
         method: args.method.method(),
         reference: args.reference,
@@ -205,48 +263,13 @@ pub fn run(args: RegisterArgs) -> Result<ExitCode> {
             args.range_sigma
         );
     }
-    let models = vec![model; views.len()];
+    Ok((params, vec![model; n]))
+}
 
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .context("cannot start the worker threads")?;
-    let start = Instant::now();
-    let registration = pool
-        .install(|| register_with_models(&views, &initial, &models, &params))
-        .map_err(|e| anyhow!(name_view(&e.to_string(), &args.views)))?;
-    let elapsed = start.elapsed();
-    let model = registration.merged(&views)?;
-
-    // Everything is computed: stage every output, then move them all into place.
-    let mut staged = Staged::default();
-    let result = (|| -> Result<()> {
-        let format = CloudFormat::from_path(&args.output)?;
-        staged.write(&args.output, |w| match format {
-            CloudFormat::Ply => write_ply(w, &model, &WriteOptions::default()),
-            CloudFormat::Pcd => write_pcd(w, &model, &WriteOptions::default()),
-        })?;
-        let poses = poses_json(&names, &registration.poses);
-        staged.write(&args.poses, |w| {
-            w.write_all(&poses).map_err(CloudIoError::from)
-        })?;
-        if let Some(path) = &args.report {
-            let mut report = serde_json::to_vec_pretty(&registration)?;
-            report.push(b'\n');
-            staged.write(path, |w| w.write_all(&report).map_err(CloudIoError::from))?;
-        }
-        staged.commit()
-    })();
-    if let Err(e) = result {
-        staged.discard();
-        return Err(e);
-    }
-
-    let points: usize = views.iter().map(PointCloud::len).sum();
-    let rms = registration
-        .rms
-        .map_or("-".to_string(), |r| format!("{:.3} mm", r * 1e3));
-    let detail = match &registration.report {
+/// The method's own figures for the printed line: steps and correspondences (MAP), sets
+/// and the views not tied to the reference (p-ICP-GPA), or each pair (sequential ICP).
+fn method_detail(report: &MethodReport, names: &[String], views: &[PathBuf]) -> String {
+    match report {
         MethodReport::Map(m) => format!(
             "{} steps, {} correspondences, stop: {:?}; {}",
             m.iterations, m.inliers, m.stop, m.verdict
@@ -261,7 +284,7 @@ pub fn run(args: RegisterArgs) -> Result<ExitCode> {
             } else {
                 format!(
                     ", views not tied to the reference: {}",
-                    list_views(&g.unconnected_views, &args.views)
+                    list_views(&g.unconnected_views, views)
                 )
             }
         ),
@@ -276,28 +299,6 @@ pub fn run(args: RegisterArgs) -> Result<ExitCode> {
             })
             .collect::<Vec<_>>()
             .join("; "),
-    };
-    println!(
-        "registered {} views ({points} points) by {} in {:.1} ms: {}, rms {rms}; {detail}",
-        views.len(),
-        args.method.name(),
-        elapsed.as_secs_f64() * 1e3,
-        if registration.converged {
-            "converged"
-        } else {
-            "NOT converged"
-        },
-    );
-    println!(
-        "wrote {} and {}",
-        args.output.display(),
-        args.poses.display()
-    );
-    if registration.converged {
-        Ok(ExitCode::SUCCESS)
-    } else {
-        eprintln!("warning: the registration did not converge; the poses may be wrong");
-        Ok(ExitCode::from(NOT_CONVERGED))
     }
 }
 
@@ -408,51 +409,4 @@ fn list_views(indices: &[usize], views: &[PathBuf]) -> String {
         .map(|&k| format!("{k} ({})", views[k].display()))
         .collect::<Vec<_>>()
         .join(", ")
-}
-
-/// Outputs written under temporary names beside their final paths, renamed into place
-/// together once all are written, or removed.
-#[derive(Default)]
-struct Staged {
-    /// (temporary path, final path).
-    files: Vec<(PathBuf, PathBuf)>,
-}
-
-impl Staged {
-    /// Writes `path`'s content under a temporary name in the same directory.
-    fn write(
-        &mut self,
-        path: &Path,
-        write: impl FnOnce(&mut dyn std::io::Write) -> Result<(), CloudIoError>,
-    ) -> Result<()> {
-        let name = path
-            .file_name()
-            .ok_or_else(|| anyhow!("{}: not a file name", path.display()))?;
-        let temp = path.with_file_name(format!(
-            ".{}.{}.staged",
-            name.to_string_lossy(),
-            std::process::id()
-        ));
-        write_atomically(&temp, write)
-            .with_context(|| format!("cannot write {}", path.display()))?;
-        self.files.push((temp, path.to_path_buf()));
-        Ok(())
-    }
-
-    /// Moves every staged file into place.
-    fn commit(&mut self) -> Result<()> {
-        while let Some((temp, path)) = self.files.first().cloned() {
-            std::fs::rename(&temp, &path)
-                .with_context(|| format!("cannot write {}", path.display()))?;
-            self.files.remove(0);
-        }
-        Ok(())
-    }
-
-    /// Removes the staged files not yet moved.
-    fn discard(&mut self) {
-        for (temp, _) in self.files.drain(..) {
-            let _ = std::fs::remove_file(temp);
-        }
-    }
 }

@@ -6,20 +6,18 @@
 //! reports and the nominal robot model, so they carry the scene's `[errors]`. Each point
 //! has its sensor origin (`ox oy oz` / `vp_x vp_y vp_z`), its ground-truth label (`label`:
 //! 0 table, 1 robot, 1000 + i obstacle i, 2000 + i object i) and its noise-free true
-//! point (`tx ty tz`). Nothing is written unless the whole acquisition succeeded.
+//! point (`tx ty tz`). Nothing is written unless the whole acquisition succeeded. The
+//! acquisitions and their clouds are the twin's ([`nbv_sim::rig::SimRig`]); this file
+//! parses the arguments, writes the files and prints.
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
-use nbv_core::cloud::PointCloud;
 use nbv_core::cloud::io::{
     CloudFormat, DEFAULT_DEPTH_SCALE, Encoding, FloatType, WriteOptions, write_cloud,
     write_depth_png,
 };
 use nbv_core::math::{Pose, pose_from_xyz_rpy};
-use nbv_core::rig::{
-    DepthCamera, LineScanner, TruthLabel, acquire_sweep, depth_frame_to_cloud, lines_to_cloud,
-    sensor_pose,
-};
+use nbv_core::rig::{DepthCamera, LabelCounts, acquire_sweep};
 use nbv_scenes::overrides::load;
 use nbv_sim::rig::SimRig;
 use std::path::{Path, PathBuf};
@@ -151,20 +149,7 @@ fn check_output(path: &Path, what: &str, cloud: bool) -> Result<()> {
     Ok(())
 }
 
-/// Points per kind of surface: `table, objects, obstacles, robot`.
-fn label_counts(cloud: &PointCloud) -> [usize; 4] {
-    let mut n = [0; 4];
-    for code in cloud.labels.iter().flatten() {
-        match TruthLabel::from_code(*code) {
-            Some(TruthLabel::Table) => n[0] += 1,
-            Some(TruthLabel::Object(_)) => n[1] += 1,
-            Some(TruthLabel::Obstacle(_)) => n[2] += 1,
-            Some(TruthLabel::Robot) | None => n[3] += 1,
-        }
-    }
-    n
-}
-
+/// The phase-1 sweep on the twin, written as one cloud.
 fn scan_mid(c: &Common) -> Result<()> {
     check_output(&c.output, "output", true)?;
     let (scene, mut rig) = c.rig()?;
@@ -181,17 +166,7 @@ fn scan_mid(c: &Common) -> Result<()> {
             c.scene
         )
     })?;
-    let cloud = {
-        let state = rig.state();
-        let world = state.world();
-        lines_to_cloud(
-            &sweep.lines,
-            &sweep.motion,
-            world.robot(),
-            world.base(),
-            rig.scanner.spec(),
-        )?
-    };
+    let cloud = rig.sweep_cloud(&sweep)?;
     if cloud.is_empty() {
         bail!(
             "{}: the sweep returned no point (check [sweep] and [sensors.mid_range])",
@@ -203,7 +178,12 @@ fn scan_mid(c: &Common) -> Result<()> {
         (Some(a), Some(b)) => b.time - a.time,
         _ => 0.0,
     };
-    let [table, objects, obstacles, robot] = label_counts(&cloud);
+    let LabelCounts {
+        table,
+        objects,
+        obstacles,
+        robot,
+    } = LabelCounts::of(&cloud);
     println!(
         "{}: {} lines over {duration:.2} s, {} points ({table} table, {objects} objects, \
          {obstacles} obstacles, {robot} robot) -> {}",
@@ -239,6 +219,7 @@ fn parse_view(view: &str) -> Result<Pose> {
     ))
 }
 
+/// One depth frame from `view`, written as a cloud (and, if asked, as a depth image).
 fn scan_short(c: &Common, view: &str, depth: Option<&Path>) -> Result<()> {
     check_output(&c.output, "output", true)?;
     if let Some(d) = depth {
@@ -249,31 +230,14 @@ fn scan_short(c: &Common, view: &str, depth: Option<&Path>) -> Result<()> {
     }
     let target = parse_view(view)?;
     let (scene, mut rig) = c.rig()?;
-    let frame_name = rig.camera.spec().frame.clone();
-    let q = {
-        let state = rig.state();
-        let world = state.world();
-        world
-            .robot()
-            .ik_nearest(
-                &frame_name,
-                &(world.base().inverse() * target),
-                &state.reported_joints(),
-            )
-            .with_context(|| format!("--view \"{view}\": the arm cannot put the camera there"))?
-            .joints
-    };
+    let q = rig
+        .camera_joints(&target)
+        .with_context(|| format!("--view \"{view}\": the arm cannot put the camera there"))?;
     rig.arm
         .teleport(q)
         .with_context(|| format!("--view \"{view}\": the arm cannot stand there"))?;
     let frame = rig.camera.capture()?;
-    let spec = rig.camera.spec().clone();
-    let cloud = {
-        let state = rig.state();
-        let world = state.world();
-        let reported = sensor_pose(world.robot(), world.base(), &q, &frame_name)?;
-        depth_frame_to_cloud(&frame, &spec, &reported)?
-    };
+    let cloud = rig.frame_cloud(&frame, &q)?;
     if let Some(d) = depth {
         // Both files or none: the depth image first, removed if the cloud fails.
         write_depth_png(
@@ -290,13 +254,13 @@ fn scan_short(c: &Common, view: &str, depth: Option<&Path>) -> Result<()> {
     } else {
         write_cloud(&c.output, &cloud, &c.write_options())?;
     }
-    let [table, objects, obstacles, robot] = label_counts(&cloud);
-    let ranges = cloud
-        .points
-        .iter()
-        .zip(cloud.origins.iter().flatten())
-        .map(|(p, o)| (p - o).norm());
-    let (near, far) = ranges.fold((f64::INFINITY, 0.0f64), |(a, b), r| (a.min(r), b.max(r)));
+    let LabelCounts {
+        table,
+        objects,
+        obstacles,
+        robot,
+    } = LabelCounts::of(&cloud);
+    let (near, far) = cloud.range_extent();
     println!(
         "{}: {}x{} frame, {} valid pixels ({table} table, {objects} objects, {obstacles} \
          obstacles, {robot} robot), ranges {near:.3}–{far:.3} m -> {}{}",

@@ -67,17 +67,6 @@ fn parse_shapes(s: &str) -> Result<ShapeSet, String> {
     s.parse()
 }
 
-/// "Can the arm put `frame` at this world pose?": closed-form IK of the frame through its
-/// fixed transform to the flange, for a robot mounted at `base`.
-fn sensor_reachability<'a>(
-    robot: &'a Robot,
-    base: nbv_core::math::Pose,
-    frame: &'a str,
-) -> impl Fn(&nbv_core::math::Pose) -> bool + 'a {
-    let base_inv = base.inverse();
-    move |pose| robot.reachable(frame, &(base_inv * pose)).unwrap_or(false)
-}
-
 /// Runs `nbv scene …`.
 pub fn run(args: SceneArgs) -> Result<()> {
     match args.command {
@@ -98,8 +87,7 @@ pub fn run(args: SceneArgs) -> Result<()> {
             let s = nbv_scenes::overrides::load(&scene)?;
             let robot = Robot::from_urdf_file(&s.robot.urdf)
                 .with_context(|| format!("loading the robot of {scene}"))?;
-            let reach =
-                sensor_reachability(&robot, s.robot.base.to_pose(), &s.sensors.short_range.frame);
+            let reach = robot.reachability(s.robot.base.to_pose(), &s.sensors.short_range.frame);
             let summary = nbv_scenes::describe::describe(&s, Some(&reach))
                 .with_context(|| format!("describing {scene}"))?;
             print!("{}", summary.to_text(&s));
@@ -148,7 +136,7 @@ pub fn run(args: SceneArgs) -> Result<()> {
             // Objects are placed only where the short-range sensor has reachable viewpoints.
             let robot = Robot::from_urdf_file(&config.urdf)
                 .with_context(|| format!("loading the robot {}", config.urdf.display()))?;
-            let reach = sensor_reachability(&robot, nbv_core::math::Pose::identity(), "dinast");
+            let reach = robot.reachability(nbv_core::math::Pose::identity(), "dinast");
             let scene = generate_with(seed, n, &config, &reach)
                 .with_context(|| format!("generating a scene with seed {seed}"))?;
             // Validate before writing anything: no file unless it is a valid scene.

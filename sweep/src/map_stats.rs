@@ -1,12 +1,14 @@
 //! `stats.json` of `nbv map`: what phase 1 made of a mid-range cloud — the segmentation's
 //! parameters and counts, the table plane, the clusters, the occupancy grid and its
-//! reduced map — as JSON.
+//! reduced map — as JSON; and the files `nbv map` writes ([`write_map_files`]).
 
+use crate::error::{Context, Result};
 use nalgebra::Point3;
 use nbv_core::cloud::PointCloud;
+use nbv_core::cloud::io::{CloudIoError, WriteOptions, write_atomically, write_cloud};
 use nbv_core::perception::{PhaseOne, PhaseOneConfig};
 use serde_json::{Value, json};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The share `n / total` (0 for an empty total).
 ///
@@ -119,5 +121,62 @@ pub fn stats_json(
             "unknown_crust": s.unknown_crust,
             "removed_unknown_share": s.removed_unknown_share,
         },
+    })
+}
+
+/// The files [`write_map_files`] wrote.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MapFiles {
+    /// The occupancy grid after phase 1 (`grid.nbvgrid`).
+    pub grid: PathBuf,
+    /// The object clusters, each point labelled with its cluster (`clusters.ply`).
+    pub clusters: PathBuf,
+    /// The statistics (`stats.json`, [`stats_json`]).
+    pub stats: PathBuf,
+}
+
+/// Writes phase 1's result `r` into `dir` (created if missing): the grid, the labelled
+/// clusters and the statistics `stats`, each atomically, in that order.
+///
+/// ```
+/// use nbv_core::perception::phase_one;
+/// let config = nbv_scenes::pipeline_params::default_phase_one_config().unwrap();
+/// // A table top seen from 1.5 m above it.
+/// let table = (0..40).flat_map(|i| (0..40).map(move |j| {
+///     nalgebra::Point3::new(0.6 + 0.01 * i as f64, -0.2 + 0.01 * j as f64, 0.25)
+/// }));
+/// let mut cloud = nbv_core::cloud::PointCloud::from_points(table.collect());
+/// cloud.origins = Some(vec![nalgebra::Point3::new(0.8, 0.0, 1.5); cloud.len()]);
+/// let result = phase_one(&cloud, &config).unwrap();
+/// let dir = std::env::temp_dir().join(format!("nbv-map-files-doc-{}", std::process::id()));
+/// let files = nbv_sweep::map_stats::write_map_files(&dir, &result, &serde_json::json!({})).unwrap();
+/// assert_eq!(std::fs::read_to_string(&files.stats).unwrap(), "{}\n");
+/// assert!(files.grid.exists() && files.clusters.exists());
+/// std::fs::remove_dir_all(&dir).unwrap();
+/// ```
+pub fn write_map_files(dir: &Path, r: &PhaseOne, stats: &Value) -> Result<MapFiles> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let grid = dir.join("grid.nbvgrid");
+    r.map
+        .grid
+        .save(&grid)
+        .with_context(|| format!("writing {}", grid.display()))?;
+    let clusters = dir.join("clusters.ply");
+    write_cloud(
+        &clusters,
+        &r.segmentation.labelled_clusters(),
+        &WriteOptions::default(),
+    )
+    .with_context(|| format!("writing {}", clusters.display()))?;
+    let stats_path = dir.join("stats.json");
+    let text = serde_json::to_string_pretty(stats).context("serialising the statistics")? + "\n";
+    write_atomically(&stats_path, |w| {
+        w.write_all(text.as_bytes()).map_err(CloudIoError::from)
+    })
+    .with_context(|| format!("writing {}", stats_path.display()))?;
+    Ok(MapFiles {
+        grid,
+        clusters,
+        stats: stats_path,
     })
 }

@@ -207,6 +207,25 @@ impl PointCloud {
                 .fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p))),
         )
     }
+
+    /// The shortest and the longest distance of a point from its sensor origin:
+    /// `(∞, 0)` without origins or points.
+    ///
+    /// ```
+    /// use nbv_core::cloud::PointCloud;
+    /// use nalgebra::Point3;
+    /// let mut c = PointCloud::from_points(vec![Point3::new(0.0, 0.0, 1.0), Point3::new(0.0, 0.0, 3.0)]);
+    /// assert_eq!(c.range_extent(), (f64::INFINITY, 0.0));
+    /// c.origins = Some(vec![Point3::origin(); 2]);
+    /// assert_eq!(c.range_extent(), (1.0, 3.0));
+    /// ```
+    pub fn range_extent(&self) -> (f64, f64) {
+        self.points
+            .iter()
+            .zip(self.origins.iter().flatten())
+            .map(|(p, o)| (p - o).norm())
+            .fold((f64::INFINITY, 0.0f64), |(a, b), r| (a.min(r), b.max(r)))
+    }
 }
 
 #[cfg(test)]

@@ -372,6 +372,24 @@ impl Robot {
         }
     }
 
+    /// "Can the arm put `frame` at this world pose?" for the robot mounted at `base`: the
+    /// closed-form IK of the frame ([`reachable`](Self::reachable)) with the pose brought
+    /// into the base frame; a query that cannot be answered is a no.
+    /// ```
+    /// # use nbv_core::kinematics::Robot;
+    /// let robot = Robot::from_urdf_file(nbv_core::kinematics::COMAU_URDF)?;
+    /// let reach = robot.reachability(nbv_core::math::Pose::translation(0.0, 0.0, 0.1), "dinast");
+    /// // The depth camera 0.45 m above the floor, 0.8 m in front, looking straight down.
+    /// let down = nbv_core::math::pose_from_xyz_rpy([0.8, 0.0, 0.45], [std::f64::consts::PI, 0.0, 0.0]);
+    /// assert!(reach(&down));
+    /// assert!(!reach(&nbv_core::math::Pose::translation(9.0, 0.0, 0.0)));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn reachability<'a>(&'a self, base: Pose, frame: &'a str) -> impl Fn(&Pose) -> bool + 'a {
+        let base_inv = base.inverse();
+        move |pose| self.reachable(frame, &(base_inv * pose)).unwrap_or(false)
+    }
+
     /// Solutions with representatives (and free angles) nearest to `reference`.
     fn solve(
         &self,

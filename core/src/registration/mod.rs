@@ -30,9 +30,10 @@
 //!    a single pair.
 //!
 //! What they share sits here: the parameters ([`RegistrationParams`]), the report, the
-//! errors, the views' k-d trees and nearest-neighbour caches, normals, Procrustes and the
-//! merge. The pipeline builds each object's model with the MAP registration; it runs
-//! p-ICP-GPA and sequential ICP beside it for comparison (`[registration] baselines`).
+//! errors, the views' k-d trees and nearest-neighbour caches, normals, Procrustes, the
+//! merge and the files of a registration of view files ([`RegistrationFiles`]). The
+//! pipeline builds each object's model with the MAP registration; it runs p-ICP-GPA and
+//! sequential ICP beside it for comparison (`[registration] baselines`).
 //!
 //! Everything that runs in parallel (rayon: over points, sets and views) collects in
 //! index order and reduces sequentially, so results are bit-identical at any thread
@@ -46,6 +47,7 @@ mod merge;
 mod nearest_cache;
 mod neighbour_graph;
 mod normals;
+mod output_files;
 mod params;
 mod procrustes;
 mod report;
@@ -58,6 +60,7 @@ pub use map::free_space::FreeSpace;
 pub use map::preparation::MapPreparation;
 pub use map::view_model::{PosePrior, RangeNoise, ViewModel};
 pub use normals::estimate_normals;
+pub use output_files::{RegistrationFileError, RegistrationFiles};
 pub use params::{IcpParams, MapParams, Method, RegistrationParams, SetRule};
 pub use procrustes::rigid_procrustes;
 pub use report::{

@@ -31,4 +31,4 @@ pub use rig_error::RigError;
 pub use robot_rig::Rig;
 pub use sensor_cloud::{SensorCloudError, depth_frame_to_cloud, lines_to_cloud, sensor_pose};
 pub use sweep::{SweepData, acquire_sweep};
-pub use truth::{TruthHit, TruthLabel};
+pub use truth::{LabelCounts, TruthHit, TruthLabel};

@@ -1,5 +1,7 @@
-//! Ground truth attached by the twin to each return: what was hit, and where, noise-free.
+//! Ground truth attached by the twin to each return: what was hit, and where, noise-free;
+//! and a cloud's points counted by what they hit ([`LabelCounts`]).
 
+use crate::cloud::PointCloud;
 use nalgebra::Point3;
 
 /// What a ray hit.
@@ -46,4 +48,43 @@ pub struct TruthHit {
     pub label: TruthLabel,
     /// The noise-free hit point in the world frame.
     pub point: Point3<f64>,
+}
+
+/// A cloud's labelled points counted by the kind of surface they hit.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct LabelCounts {
+    /// On the table.
+    pub table: usize,
+    /// On the scene's objects.
+    pub objects: usize,
+    /// On the obstacles.
+    pub obstacles: usize,
+    /// On the robot, or with a code that is no [`TruthLabel`].
+    pub robot: usize,
+}
+
+impl LabelCounts {
+    /// The counts of `cloud`'s labels (none without labels).
+    ///
+    /// ```
+    /// use nbv_core::cloud::PointCloud;
+    /// use nbv_core::rig::{LabelCounts, TruthLabel};
+    /// let mut cloud = PointCloud::from_points(vec![nalgebra::Point3::origin(); 4]);
+    /// let labels = [TruthLabel::Table, TruthLabel::Object(2), TruthLabel::Object(0), TruthLabel::Robot];
+    /// cloud.labels = Some(labels.map(TruthLabel::code).to_vec());
+    /// let n = LabelCounts::of(&cloud);
+    /// assert_eq!((n.table, n.objects, n.obstacles, n.robot), (1, 2, 0, 1));
+    /// ```
+    pub fn of(cloud: &PointCloud) -> Self {
+        let mut n = Self::default();
+        for code in cloud.labels.iter().flatten() {
+            match TruthLabel::from_code(*code) {
+                Some(TruthLabel::Table) => n.table += 1,
+                Some(TruthLabel::Object(_)) => n.objects += 1,
+                Some(TruthLabel::Obstacle(_)) => n.obstacles += 1,
+                Some(TruthLabel::Robot) | None => n.robot += 1,
+            }
+        }
+        n
+    }
 }

@@ -18,6 +18,9 @@
 //! - The depth camera captures at the current true pose; the clock advances one frame
 //!   period. Its rays are cast once per standstill of the arm: the frames of a burst draw
 //!   their own noise and dropouts from that cast (see [`crate::sensors::CameraModel`]).
+//! - What the devices return becomes clouds as the pipeline sees them, through the reported
+//!   joints and the nominal model: [`SimRig::sweep_cloud`], [`SimRig::frame_cloud`]
+//!   ([`SimRig::camera_joints`] places the camera).
 //!
 //! ```no_run
 //! use nbv_core::rig::{Arm, DepthCamera, JointPath, LineScanner};
@@ -34,7 +37,8 @@
 
 use super::twin_state::{RigConfig, TwinState, UnknownSensorFrame};
 use crate::world::{SceneWorldError, TwinWorld};
-use nbv_core::kinematics::{Joints, Robot};
+use nbv_core::cloud::PointCloud;
+use nbv_core::kinematics::{IkError, Joints, Robot};
 use nbv_core::math::Pose;
 use nbv_core::perception::ObjectSegmentation;
 use nbv_core::pipeline::{
@@ -43,7 +47,8 @@ use nbv_core::pipeline::{
 };
 use nbv_core::rig::{
     Arm, DepthCamera, DepthCameraSpec, DepthFrame, JointPath, LineScanner, LineScannerSpec, Motion,
-    Rig, RigError, ScanLine,
+    Rig, RigError, ScanLine, SensorCloudError, SweepData, depth_frame_to_cloud, lines_to_cloud,
+    sensor_pose,
 };
 use std::cell::{Ref, RefCell};
 use std::rc::Rc;
@@ -151,6 +156,52 @@ impl SimRig {
         observer: &mut dyn ExploreObserver,
     ) -> Result<Exploration, PipelineError> {
         explore(&mut self.rig(), config, observer)
+    }
+
+    /// A sweep's cloud as the pipeline sees it: each line cast from the sensor pose the arm
+    /// reported at its time through the nominal robot model, so the points carry the
+    /// scene's pose errors ([`lines_to_cloud`] with this rig's robot, base and scanner).
+    pub fn sweep_cloud(&self, sweep: &SweepData) -> Result<PointCloud, SensorCloudError> {
+        let state = self.state.borrow();
+        let world = state.world();
+        lines_to_cloud(
+            &sweep.lines,
+            &sweep.motion,
+            world.robot(),
+            world.base(),
+            self.scanner.spec(),
+        )
+    }
+
+    /// The reported joints, nearest the current ones, that put the depth camera at the
+    /// world pose `target` (closed-form IK through the nominal model).
+    pub fn camera_joints(&self, target: &Pose) -> Result<Joints, IkError> {
+        let frame = &self.camera.spec().frame;
+        let state = self.state.borrow();
+        let world = state.world();
+        Ok(world
+            .robot()
+            .ik_nearest(
+                frame,
+                &(world.base().inverse() * target),
+                &state.reported_joints(),
+            )?
+            .joints)
+    }
+
+    /// A depth frame's cloud as the pipeline sees it: its pixels cast from the camera pose
+    /// the arm reports at the joints `q` through the nominal model
+    /// ([`depth_frame_to_cloud`]).
+    pub fn frame_cloud(
+        &self,
+        frame: &DepthFrame,
+        q: &Joints,
+    ) -> Result<PointCloud, SensorCloudError> {
+        let spec = self.camera.spec();
+        let state = self.state.borrow();
+        let world = state.world();
+        let reported = sensor_pose(world.robot(), world.base(), q, &spec.frame)?;
+        depth_frame_to_cloud(frame, spec, &reported)
     }
 
     /// Phase 1 only ([`nbv_core::pipeline::run_phase_one`]) on this rig.

@@ -2,7 +2,8 @@
 //!
 //! [`read_cloud`] and [`write_cloud`] pick the format from the extension (`.ply`, `.pcd`,
 //! case-insensitive); [`read_ply`], [`read_pcd`], [`write_ply`] and [`write_pcd`] work on
-//! streams. Files are written atomically ([`write_atomically`]) and deterministically.
+//! streams. Files are written atomically ([`write_atomically`]) and deterministically;
+//! several that belong together, all or none ([`StagedFiles`]).
 //!
 //! # Formats
 //! - PLY: `ascii`, `binary_little_endian` and `binary_big_endian` are read; ASCII and
@@ -87,6 +88,7 @@ mod ply_reader;
 mod ply_writer;
 mod record_writer;
 mod scalar;
+mod staged_files;
 mod text_lines;
 
 use std::path::Path;
@@ -102,6 +104,7 @@ pub use pcd_reader::read_pcd;
 pub use pcd_writer::write_pcd;
 pub use ply_reader::read_ply;
 pub use ply_writer::write_ply;
+pub use staged_files::{StagedFileError, StagedFiles};
 
 use crate::cloud::PointCloud;
 
