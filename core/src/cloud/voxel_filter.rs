@@ -88,49 +88,6 @@ impl VoxelFilter {
             .collect())
     }
 
-    /// For each set of `occupied` points, the points of `cloud` (all columns, in `cloud`'s
-    /// order) that fall in a voxel holding one of them: what each downsampled subset of
-    /// `cloud` stood for (a voxel's centroid lies in its voxel). A voxel held by several
-    /// sets goes to the first. One pass over `cloud` for all sets. Errors as
-    /// [`filter`](Self::filter) does.
-    ///
-    /// ```
-    /// use nbv_core::cloud::{PointCloud, VoxelFilter};
-    /// use nalgebra::Point3;
-    /// let cloud = PointCloud::from_points(vec![
-    ///     Point3::new(0.01, 0.01, 0.01),
-    ///     Point3::new(0.25, 0.0, 0.0),
-    ///     Point3::new(0.03, 0.01, 0.01),
-    /// ]);
-    /// let f = VoxelFilter { leaf_size: 0.1 };
-    /// let down = f.filter(&cloud).unwrap();
-    /// // The first voxel's centroid stands for the two points in it, the second's for one.
-    /// let members = f.in_voxels_of(&cloud, &[&down.points[..1], &down.points[1..]]).unwrap();
-    /// assert_eq!(members[0].points, vec![cloud.points[0], cloud.points[2]]);
-    /// assert_eq!(members[1].points, vec![cloud.points[1]]);
-    /// ```
-    pub fn in_voxels_of(
-        &self,
-        cloud: &PointCloud,
-        occupied: &[&[Point3<f64>]],
-    ) -> Result<Vec<PointCloud>, ProcessingError> {
-        self.check_leaf()?;
-        check_cloud(cloud)?;
-        let mut owner = std::collections::HashMap::new();
-        for (set, points) in occupied.iter().enumerate() {
-            for (index, p) in points.iter().enumerate() {
-                owner.entry(self.key(p, index)?).or_insert(set);
-            }
-        }
-        let mut members = vec![Vec::new(); occupied.len()];
-        for (index, p) in cloud.points.iter().enumerate() {
-            if let Some(&set) = owner.get(&self.key(p, index)?) {
-                members[set].push(index);
-            }
-        }
-        Ok(members.iter().map(|m| cloud.select(m)).collect())
-    }
-
     fn check_leaf(&self) -> Result<(), ProcessingError> {
         if self.leaf_size.is_finite() && self.leaf_size > 0.0 {
             Ok(())
@@ -296,13 +253,6 @@ mod tests {
                 if let Some(p) = prev { prop_assert!(p < k); }
                 prev = Some(k);
             }
-            // Every other centroid stands for exactly its voxel's points, in input order.
-            let some: Vec<Point3<f64>> = down.points.iter().step_by(2).copied().collect();
-            let mut expected: Vec<usize> = groups.iter().step_by(2).flatten().copied().collect();
-            expected.sort_unstable();
-            let members = f.in_voxels_of(&cloud, &[&some]).unwrap();
-            let want: Vec<Point3<f64>> = expected.iter().map(|&i| cloud.points[i]).collect();
-            prop_assert_eq!(&members[0].points, &want);
             // Order independence: reversing the input gives the same points.
             let rev = PointCloud::from_points(cloud.points.iter().rev().copied().collect());
             let down_rev = f.filter(&rev).unwrap();
