@@ -73,9 +73,15 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
     let mut rig = SimRig::from_scene(scene).context("building the twin")?;
     let (phase, segmentation) = rig.phase_one(&config, &mut NoObserver)?;
     let (robot, _) = rig.robot_and_base();
-    let map =
+    let mut map =
         ExplorationMap::after_phase_one(phase.grid.clone(), &phase.cloud, config.nbv.objective)
             .context("the map after phase 1")?;
+    let regions: Vec<ObjectRegion> = segmentation
+        .clusters
+        .iter()
+        .map(|c| ObjectRegion::of_cluster(c, segmentation.table.as_ref(), config.object_margin))
+        .collect();
+    map.set_objects(&regions, config.nbv.free_above_objects);
     let nbv = NextBestView::new(config.nbv, rig.camera.spec())?;
     let start = rig.arm.joints()?;
     let mut out = Vec::new();
@@ -88,8 +94,7 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
             continue;
         }
         // The pipeline's own candidate step, as for the object's first view.
-        let region =
-            ObjectRegion::of_cluster(cluster, segmentation.table.as_ref(), config.object_margin);
+        let region = regions[j];
         let centre = viewing_centre(&cloud, &[], &region).context("an empty cluster")?;
         let ViewCandidates { mut planner, list } = view_candidates(
             &robot,

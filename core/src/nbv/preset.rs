@@ -59,7 +59,8 @@ impl NbvPreset {
     /// Algorithm 2's parameters: the sphere, the paper's (α_u, α_o) = (4, 1), every 8th
     /// Dinast pixel in u and v (1200 rays; the paper does not say how D was subsampled),
     /// four rolls about the optical axis (eq. (3)'s first), eq. (4) ranking, and — twin
-    /// only — eq. (4) counting the object's surface.
+    /// only — eq. (4) counting the object's surface and the unknown space above the
+    /// objects free for the planner.
     pub fn params(self) -> NbvParams {
         NbvParams {
             sphere: self.sphere(),
@@ -70,6 +71,7 @@ impl NbvPreset {
             objective: Objective::Paper,
             cost_weight: 0.0,
             object_surface: self == Self::Twin,
+            free_above_objects: self == Self::Twin,
         }
     }
 

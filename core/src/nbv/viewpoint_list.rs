@@ -59,6 +59,12 @@ pub struct NbvParams {
     ///
     /// [`view_candidates`]: crate::pipeline::view_candidates
     pub object_surface: bool,
+    /// The planner takes the unknown space above every object phase 1 found (above the
+    /// highest top of their regions, [`ExplorationMap::free_above`]) as free; false
+    /// (default): every unknown voxel of M̄ is an obstacle, as in the paper.
+    ///
+    /// [`ExplorationMap::free_above`]: crate::pipeline::ExplorationMap::free_above
+    pub free_above_objects: bool,
 }
 
 impl Default for NbvParams {

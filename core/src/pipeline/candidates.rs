@@ -44,7 +44,8 @@ pub fn view_candidates(
     surface: Option<ObjectSurface<'_>>,
 ) -> Result<ViewCandidates, PipelineError> {
     let reduced = &map.reduced;
-    let world = CollisionWorld::new(robot, &config.obstacles)?.with_reduced_map(reduced);
+    let mut world = CollisionWorld::new(robot, &config.obstacles)?.with_reduced_map(reduced);
+    world.ignore_voxels(&map.unknown_above_objects());
     let surface =
         surface.filter(|_| nbv.params.object_surface && nbv.params.objective == Objective::Paper);
     // Eq. (4) over the object's surface sees the map with the unknown space around the

@@ -54,6 +54,7 @@ pub fn explore(
         .iter()
         .map(|c| ObjectRegion::of_cluster(c, segmentation.table.as_ref(), config.object_margin))
         .collect();
+    map.set_objects(&ep.footprints, config.nbv.free_above_objects);
     for (j, cluster) in segmentation.clusters.iter().enumerate() {
         let region = ep.footprints[j];
         let mut object = ObjectExploration {

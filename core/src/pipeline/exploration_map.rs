@@ -2,6 +2,7 @@
 //! log-odds grid, its reduced map M̄ and, when the view objective reads them, the
 //! occlusion distances behind measured surface — and its update by one view.
 
+use super::ObjectRegion;
 use crate::cloud::PointCloud;
 use crate::nbv::{GainMap, Objective};
 use crate::occupancy::{FreeRay, OcclusionDistances, OccupancyError, OccupancyGrid, ReducedMap};
@@ -16,6 +17,12 @@ pub struct ExplorationMap {
     /// Steps behind measured surface, kept only for the objectives that read them
     /// ([`Objective::needs_occlusion`]).
     pub occlusion: Option<OcclusionDistances>,
+    /// The height (world z, m) above which the planner takes unknown space as free: above
+    /// every object phase 1 found ([`NbvParams::free_above_objects`]); `None`: every
+    /// unknown voxel of M̄ is an obstacle.
+    ///
+    /// [`NbvParams::free_above_objects`]: crate::nbv::NbvParams::free_above_objects
+    pub free_above: Option<f64>,
 }
 
 impl ExplorationMap {
@@ -37,7 +44,60 @@ impl ExplorationMap {
             reduced: ReducedMap::from_grid(&grid),
             grid,
             occlusion,
+            free_above: None,
         })
+    }
+
+    /// Sets [`free_above`](Self::free_above) to the highest top of the objects' `regions`
+    /// when `free_above_objects` ([`NbvParams::free_above_objects`]), else to `None`: the
+    /// objects stand on the table and phase 1 saw each one's top, so nothing unknown
+    /// stands higher.
+    ///
+    /// [`NbvParams::free_above_objects`]: crate::nbv::NbvParams::free_above_objects
+    ///
+    /// ```
+    /// use nalgebra::Point3;
+    /// use nbv_core::cloud::PointCloud;
+    /// use nbv_core::nbv::Objective;
+    /// use nbv_core::occupancy::{GridGeometry, OccupancyGrid, OccupancyParams};
+    /// use nbv_core::pipeline::{ExplorationMap, ObjectRegion};
+    /// // Two columns of ten 10 cm voxels, x = 0 seen empty, x = 1 unknown: its crust.
+    /// let g = GridGeometry::from_dims(Point3::origin(), 0.1, [2, 1, 10]).unwrap();
+    /// let log_odds = (0..20).map(|l| if l % 2 == 0 { -1.0 } else { 0.0 }).collect();
+    /// let grid = OccupancyGrid::from_log_odds(g, OccupancyParams::default(), log_odds).unwrap();
+    /// let mut map = ExplorationMap::after_phase_one(grid, &PointCloud::default(), Objective::Paper).unwrap();
+    /// let region = |top: f64| ObjectRegion {
+    ///     min: Point3::new(0.0, 0.0, 0.0), max: Point3::new(0.1, 0.1, top), table: Some(0.0), top,
+    /// };
+    /// map.set_objects(&[region(0.25), region(0.42)], true);
+    /// assert_eq!(map.free_above, Some(0.42));
+    /// // The unknown voxels from z = 0.5 up lie wholly above the higher object.
+    /// assert_eq!(map.unknown_above_objects(), vec![11, 13, 15, 17, 19]);
+    /// map.set_objects(&[region(0.25)], false);
+    /// assert!(map.unknown_above_objects().is_empty());
+    /// ```
+    pub fn set_objects(&mut self, regions: &[ObjectRegion], free_above_objects: bool) {
+        self.free_above = regions
+            .iter()
+            .map(|r| r.max.z)
+            .reduce(f64::max)
+            .filter(|_| free_above_objects);
+    }
+
+    /// The unknown voxels of M̄ lying wholly above [`free_above`](Self::free_above): those
+    /// the planner does not take as obstacles (none when it is `None`).
+    pub fn unknown_above_objects(&self) -> Vec<usize> {
+        let Some(z) = self.free_above else {
+            return Vec::new();
+        };
+        let g = self.reduced.geometry();
+        let half = 0.5 * g.resolution();
+        self.reduced
+            .unknown()
+            .iter()
+            .copied()
+            .filter(|&l| g.unlinear(l).is_some_and(|v| g.center(v).z - half >= z))
+            .collect()
     }
 
     /// Inserts one frame (a cloud with origins; rays beyond `max_range` clear free space
