@@ -188,7 +188,7 @@ fn write_outputs(out: &Path, exploration: &Exploration, report: &ExploreReport) 
         let dir = out.join("objects").join(&entry.name);
         std::fs::create_dir_all(dir.join("views"))
             .with_context(|| format!("creating {}", dir.display()))?;
-        write_cloud(dir.join("model.ply"), &object.model(), &opts)?;
+        write_cloud(dir.join("model.ply"), &object.model()?, &opts)?;
         write_cloud(dir.join("views/view_00.ply"), &object.cluster, &opts)?;
         for (k, v) in object.views.iter().enumerate() {
             write_cloud(

@@ -52,6 +52,9 @@ pub enum SweepError {
     /// The rig failed.
     #[error(transparent)]
     Rig(#[from] nbv_core::rig::RigError),
+    /// A registration could not be applied to its views (an object's model).
+    #[error("an object's model: {0}")]
+    Registration(#[from] nbv_core::registration::RegistrationError),
     /// A point cloud could not be written.
     #[error(transparent)]
     Cloud(#[from] nbv_core::cloud::io::CloudIoError),

@@ -116,7 +116,7 @@ fn draw_all(
         draw(renderer, &seq, &camera, &dir.join("views.png"))?;
         // Models before and after registration, coloured by view, from the same camera.
         let before = object.unregistered_model();
-        let after = object.model();
+        let after = object.model()?;
         let camera = Camera::fit(&before.points, std::f64::consts::PI, 0.4, aspect);
         draw_cloud(renderer, &before, &camera, &dir.join("model_before.png"))?;
         draw_cloud(renderer, &after, &camera, &dir.join("model_after.png"))?;

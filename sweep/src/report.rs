@@ -475,7 +475,7 @@ pub fn evaluate(
         .objects
         .iter()
         .map(|object| object_entry(scene, &meshes, object, &mut tally))
-        .collect();
+        .collect::<Result<_>>()?;
     let totals = totals(&objects, exploration);
     let p = &exploration.phase_one;
     Ok(ExploreReport {
@@ -561,7 +561,7 @@ fn object_entry(
     meshes: &[TriMesh],
     object: &ObjectExploration,
     tally: &mut ClusterTally,
-) -> ObjectEntry {
+) -> Result<ObjectEntry> {
     let (truth, what) = tally.count(object, scene, meshes);
     let name = truth.map_or(format!("cluster-{}", object.index), |i| {
         scene.objects[i].name.clone()
@@ -578,11 +578,11 @@ fn object_entry(
             nbv_core::registration::MethodReport::Map(m) => Some((**m).clone()),
             _ => None,
         });
-    let model = object.model();
+    let model = object.model()?;
     let unregistered = object.unregistered_model();
-    let coverage_by_view = surface.coverage_by_view(object);
+    let coverage_by_view = surface.coverage_by_view(object)?;
     let (wasted_views, views_after_last_rise) = view_gains(&coverage_by_view);
-    ObjectEntry {
+    Ok(ObjectEntry {
         name,
         cluster: object.index,
         cluster_points: object.cluster.len(),
@@ -599,7 +599,7 @@ fn object_entry(
         coverage: surface.coverage(&model),
         coverage_mid_range: surface.coverage(&object.cluster),
         coverage_unregistered: surface.coverage(&unregistered),
-        coverage_icp: object.icp_model().and_then(|m| surface.coverage(&m)),
+        coverage_icp: object.icp_model()?.and_then(|m| surface.coverage(&m)),
         coverage_by_view,
         wasted_views,
         views_after_last_rise,
@@ -617,7 +617,7 @@ fn object_entry(
         error_icp: scores.icp,
         registration_error: object.registration_error.clone(),
         times: Times::from(&object.times),
-    }
+    })
 }
 
 /// The true surface of the object a cluster is (`None`: it is none of the scene's
@@ -655,13 +655,13 @@ impl TrueSurface<'_> {
     }
 
     /// [`ObjectEntry::coverage_by_view`]: empty for a cluster that is no object.
-    fn coverage_by_view(&self, object: &ObjectExploration) -> Vec<f64> {
+    fn coverage_by_view(&self, object: &ObjectExploration) -> Result<Vec<f64>> {
         let Some(mesh) = self.mesh else {
-            return Vec::new();
+            return Ok(Vec::new());
         };
-        let parts = parts_by_view(object);
+        let parts = parts_by_view(object)?;
         let parts: Vec<&PointCloud> = parts.iter().collect();
-        surface_coverage_curve(
+        Ok(surface_coverage_curve(
             mesh,
             &parts,
             COVERAGE_TOLERANCE,
@@ -671,7 +671,7 @@ impl TrueSurface<'_> {
         )
         .iter()
         .map(nbv_core::evaluation::Coverage::share)
-        .collect()
+        .collect())
     }
 }
 
@@ -854,12 +854,12 @@ fn workcell_entry(a: &WorkcellAlignment, cloud: &PointCloud) -> WorkcellEntry {
 /// [`ObjectExploration::model`]: nbv_core::pipeline::ObjectExploration::model
 fn parts_by_view(
     object: &nbv_core::pipeline::ObjectExploration,
-) -> Vec<nbv_core::cloud::PointCloud> {
+) -> Result<Vec<nbv_core::cloud::PointCloud>> {
     let empty = nbv_core::cloud::PointCloud::default;
     let Some(r) = &object.registration else {
-        let mut parts = vec![object.model()];
+        let mut parts = vec![object.model()?];
         parts.resize_with(object.views.len() + 1, empty);
-        return parts;
+        return Ok(parts);
     };
     let part = |k: usize| {
         let Some(v) = r.points.get(k) else {
@@ -884,7 +884,7 @@ fn parts_by_view(
             parts.push(part(registered));
         }
     }
-    parts
+    Ok(parts)
 }
 
 fn view_entry(v: &nbv_core::pipeline::AcquiredView) -> ViewEntry {

@@ -9,7 +9,7 @@ use crate::nbv::{InformationGain, StopReason};
 use crate::occupancy::{OccupancyGrid, ReducedMapStats, ScanUpdate};
 use crate::perception::SegmentationCounts;
 use crate::planning::PlanStats;
-use crate::registration::{DepthImageFreeSpace, Registration};
+use crate::registration::{DepthImageFreeSpace, Registration, RegistrationError};
 
 /// Wall-clock seconds per step (Table I of the paper); not part of the results' identity.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -221,42 +221,39 @@ impl ObjectExploration {
     /// The object's model: its views merged through the MAP registration's poses, with a
     /// `views` column; the views as acquired when the registration was rejected
     /// ([`ObjectRegistration::map_accepted`]); the cluster alone when there was nothing
-    /// to register.
-    pub fn model(&self) -> PointCloud {
+    /// to register. An error when the registration holds a pose count other than its
+    /// views' ([`Registration::merged`]).
+    pub fn model(&self) -> Result<PointCloud, RegistrationError> {
         match &self.registration {
-            Some(r) if !r.map_accepted => self.unregistered_model(),
-            _ => self.merged_with(|r| &r.map),
+            Some(r) if !r.map_accepted => Ok(self.unregistered_model()),
+            Some(r) => r.map.merged(&r.points),
+            None => Ok(self.cluster.clone()),
         }
     }
 
     /// The model by the paper's p-ICP-GPA (as acquired when it was rejected; `None` when
-    /// it did not run).
-    pub fn gpa_model(&self) -> Option<PointCloud> {
+    /// it did not run); errors as [`model`](Self::model).
+    pub fn gpa_model(&self) -> Result<Option<PointCloud>, RegistrationError> {
         self.baseline_model(|r| r.gpa.as_ref().map(|g| (g, r.gpa_accepted)))
     }
 
     /// The model by the sequential ICP baseline (as acquired when it was rejected; `None`
-    /// when it did not run).
-    pub fn icp_model(&self) -> Option<PointCloud> {
+    /// when it did not run); errors as [`model`](Self::model).
+    pub fn icp_model(&self) -> Result<Option<PointCloud>, RegistrationError> {
         self.baseline_model(|r| r.icp.as_ref().map(|g| (g, r.icp_accepted)))
     }
 
     fn baseline_model(
         &self,
         pick: impl Fn(&ObjectRegistration) -> Option<(&Registration, bool)>,
-    ) -> Option<PointCloud> {
-        match &self.registration {
-            Some(r) => {
-                let (registration, accepted) = pick(r)?;
-                Some(if accepted {
-                    registration
-                        .merged(&r.points)
-                        .unwrap_or_else(|_| self.cluster.clone())
-                } else {
-                    self.unregistered_model()
-                })
-            }
-            None => Some(self.cluster.clone()),
+    ) -> Result<Option<PointCloud>, RegistrationError> {
+        let Some(r) = &self.registration else {
+            return Ok(Some(self.cluster.clone()));
+        };
+        match pick(r) {
+            None => Ok(None),
+            Some((registration, true)) => registration.merged(&r.points).map(Some),
+            Some((_, false)) => Ok(Some(self.unregistered_model())),
         }
     }
 
@@ -275,13 +272,6 @@ impl ObjectExploration {
             None => self.cluster.clone(),
         }
     }
-
-    fn merged_with(&self, pick: impl Fn(&ObjectRegistration) -> &Registration) -> PointCloud {
-        self.registration
-            .as_ref()
-            .and_then(|r| pick(r).merged(&r.points).ok())
-            .unwrap_or_else(|| self.cluster.clone())
-    }
 }
 
 /// The whole exploration.
@@ -299,4 +289,64 @@ pub struct Exploration {
     pub collisions: usize,
     /// The depth camera's hand-eye correction estimated from all objects' registrations.
     pub hand_eye: Option<crate::calibration::HandEyeEstimate>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::registration::{MethodReport, SequentialIcpReport};
+    use nalgebra::Point3;
+
+    fn registration(poses: usize) -> Registration {
+        Registration {
+            poses: vec![Pose::identity(); poses],
+            converged: true,
+            rms: None,
+            report: MethodReport::SequentialIcp(SequentialIcpReport { pairs: Vec::new() }),
+        }
+    }
+
+    fn object(map_poses: usize) -> ObjectExploration {
+        let view = PointCloud::from_points(vec![Point3::new(0.0, 0.0, 0.1)]);
+        ObjectExploration {
+            index: 0,
+            cluster: view.clone(),
+            views: Vec::new(),
+            failures: Vec::new(),
+            candidates_evaluated: 0,
+            retreats: 0,
+            stop: ObjectStop::NotExplored,
+            registration: Some(ObjectRegistration {
+                views: vec![view.clone(); 2],
+                points: vec![view; 2],
+                models: Vec::new(),
+                map: registration(map_poses),
+                map_initial: Vec::new(),
+                calibrated: false,
+                gpa: Some(registration(1)),
+                icp: None,
+                map_accepted: true,
+                gpa_accepted: true,
+                icp_accepted: false,
+            }),
+            registration_error: None,
+            times: StepTimes::default(),
+        }
+    }
+
+    #[test]
+    fn a_registration_without_a_pose_per_view_is_an_error_not_the_cluster() {
+        let whole = object(2);
+        assert_eq!(whole.model().unwrap().len(), 2);
+        assert_eq!(whole.icp_model().unwrap(), None);
+        // p-ICP-GPA holds one pose for two views.
+        assert!(matches!(
+            whole.gpa_model(),
+            Err(RegistrationError::PoseCountMismatch { views: 2, poses: 1 })
+        ));
+        assert!(matches!(
+            object(3).model(),
+            Err(RegistrationError::PoseCountMismatch { views: 2, poses: 3 })
+        ));
+    }
 }

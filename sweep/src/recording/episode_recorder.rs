@@ -496,7 +496,7 @@ impl EpisodeRecorder {
     fn log_models(&mut self, j: usize, object: &ObjectExploration) -> Result<()> {
         for (which, model) in [
             ("before", object.unregistered_model()),
-            ("after", object.model()),
+            ("after", object.model()?),
         ] {
             let colors: Vec<[u8; 4]> = match &model.views {
                 Some(v) => v.iter().map(|k| categorical(*k as usize)).collect(),
