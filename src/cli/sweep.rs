@@ -9,7 +9,7 @@ use clap::{Args, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use nbv_sweep::engine::{Finished, Summary, SweepRun};
 use nbv_sweep::gate::Gate;
-use nbv_sweep::results::BestSetting;
+use nbv_sweep::rows::BestSetting;
 use nbv_sweep::shard::Shard;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

@@ -14,7 +14,7 @@ use crate::error::{Context, Result, bail};
 use crate::gate::{Gate, GateResult};
 use crate::grid::{Episode, SweepGrid};
 use crate::layout::{SweepInfo, load_rows, remove_stale_temporaries, row_path, write_json};
-use crate::results::{
+use crate::rows::{
     Aggregate, BestSetting, EpisodeRow, RegistrationLine, RobustnessLine, best_setting, csv_text,
     registration_table, robustness_table,
 };
@@ -302,7 +302,7 @@ pub fn merge(inputs: &[PathBuf], out: &Path, gates: &[Gate]) -> Result<Finished>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::results::tests::row;
+    use crate::rows::tests::row;
 
     /// Writes a shard directory of `grid_text` holding the rows of episodes `ks`.
     fn shard_dir(root: &Path, grid_text: &str, shard: Shard, ks: &[usize]) -> PathBuf {

@@ -1,8 +1,8 @@
 //! [`Gate`]: a `--require METRIC OP VALUE` threshold on a sweep's aggregate (e.g.
 //! `f_score>=0.8`, `collisions==0`), parsed from the command line and checked against the
-//! [`Aggregate`](crate::results::Aggregate).
+//! [`Aggregate`](crate::rows::Aggregate).
 
-use crate::results::Aggregate;
+use crate::rows::Aggregate;
 use serde::Serialize;
 use std::str::FromStr;
 

@@ -12,7 +12,7 @@
 
 use crate::error::{Context, Result, bail};
 use crate::grid::Episode;
-use crate::results::EpisodeRow;
+use crate::rows::EpisodeRow;
 use crate::shard::Shard;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};

@@ -34,7 +34,7 @@ pub mod plots;
 #[cfg(feature = "rerun")]
 pub mod recording;
 pub mod report;
-pub mod results;
+pub mod rows;
 pub mod shard;
 pub mod views;
 

@@ -4,7 +4,7 @@
 //! 0, 1, … views, the views to reach 80 % and 90 %, final coverage and precision, the
 //! joint-space distance travelled and the scoring time per view.
 
-use crate::results::{EpisodeRow, mean_curve};
+use crate::rows::{EpisodeRow, mean_curve};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -135,7 +135,7 @@ pub fn objective_table(rows: &[EpisodeRow]) -> Vec<ObjectiveLine> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::results::tests::row;
+    use crate::rows::tests::row;
 
     #[test]
     fn per_objective_and_scene_group() {

@@ -7,7 +7,7 @@
 //! curve.
 
 use crate::error::{Result, invalid};
-use crate::results::EpisodeRow;
+use crate::rows::EpisodeRow;
 use plotters::prelude::*;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -57,9 +57,9 @@ pub fn write(dir: &Path, rows: &[EpisodeRow]) -> Result<Vec<String>> {
         .collect();
     if !with_oracle.is_empty() {
         let explored =
-            crate::results::mean_curve(with_oracle.iter().map(|r| r.coverage_by_view.as_slice()));
+            crate::rows::mean_curve(with_oracle.iter().map(|r| r.coverage_by_view.as_slice()));
         let greedy =
-            crate::results::mean_curve(with_oracle.iter().map(|r| r.greedy_by_view.as_slice()));
+            crate::rows::mean_curve(with_oracle.iter().map(|r| r.greedy_by_view.as_slice()));
         let curves = [
             Curve {
                 label: "explored (mean over the episodes)".into(),
@@ -377,7 +377,7 @@ fn scatter(rows: &[EpisodeRow]) -> Result<String> {
 /// median (solid) and 95th percentile (dashed) over every object registration at a level.
 fn registration_vs_level(rows: &[EpisodeRow]) -> Result<String> {
     let mut svg = String::new();
-    let mut by: BTreeMap<i64, Vec<&crate::results::ObjectRegistrationRow>> = BTreeMap::new();
+    let mut by: BTreeMap<i64, Vec<&crate::rows::ObjectRegistrationRow>> = BTreeMap::new();
     for r in rows.iter().flat_map(|r| &r.registrations) {
         by.entry((r.level * 1000.0).round() as i64)
             .or_default()
@@ -385,7 +385,7 @@ fn registration_vs_level(rows: &[EpisodeRow]) -> Result<String> {
     }
     // The baselines are absent (None) in episodes that ran without them: a method is
     // drawn only at the levels where some registration has it.
-    type Pick = fn(&crate::results::ObjectRegistrationRow) -> Option<f64>;
+    type Pick = fn(&crate::rows::ObjectRegistrationRow) -> Option<f64>;
     let methods: [(&str, Pick, RGBColor); 4] = [
         ("as acquired", |r| Some(r.acquired), RGBColor(120, 120, 120)),
         ("map (the model's)", |r| Some(r.map), RGBColor(31, 119, 180)),
@@ -403,7 +403,7 @@ fn registration_vs_level(rows: &[EpisodeRow]) -> Result<String> {
                         .filter_map(|r| pick(r))
                         .map(|e| 1e3 * e)
                         .collect();
-                    let (m, p95) = crate::results::quantiles(&v);
+                    let (m, p95) = crate::rows::quantiles(&v);
                     (!v.is_empty()).then_some((*k as f64 / 1000.0, m, p95))
                 })
                 .collect()

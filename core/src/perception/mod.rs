@@ -15,7 +15,7 @@
 mod obstacle_sliver;
 mod oriented_box;
 mod perception_error;
-mod phase_one;
+mod segment_and_map;
 mod segmentation;
 mod segmentation_params;
 mod stacked_parts;
@@ -26,7 +26,7 @@ mod workcell_alignment;
 pub use obstacle_sliver::{ObstacleSliver, obstacle_sliver};
 pub use oriented_box::OrientedBox;
 pub use perception_error::PerceptionError;
-pub use phase_one::{PhaseOne, PhaseOneConfig, PhaseOneMap, build_map, phase_one};
+pub use segment_and_map::{PhaseOne, PhaseOneConfig, PhaseOneMap, build_map, phase_one};
 pub use segmentation::{ObjectSegmentation, SegmentationCounts, segment_objects};
 pub use segmentation_params::SegmentationParams;
 pub use stacked_parts::merge_stacked_parts;

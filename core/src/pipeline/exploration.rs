@@ -2,7 +2,7 @@
 //! then each object explored by Algorithm 1 and its views registered.
 
 use super::ExplorationMap;
-use super::episode::Episode;
+use super::episode_state::Episode;
 use super::object_loop::explore_object;
 use super::register_views::{refine_along_rays, register_calibrated, register_object};
 use super::step_timer::timed;

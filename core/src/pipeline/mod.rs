@@ -14,7 +14,7 @@
 
 mod acquire_and_update;
 mod candidates;
-mod episode;
+mod episode_state;
 mod exploration;
 mod exploration_map;
 mod explore_config;

@@ -5,7 +5,7 @@
 
 use super::acquire_and_update::{acquire_and_update, table_evidence};
 use super::candidates::{ObjectSurface, ViewCandidates, view_candidates, viewing_centre};
-use super::episode::Episode;
+use super::episode_state::Episode;
 use super::plan_and_execute::{plan_clearing_start, retrace};
 use super::step_timer::timed;
 use super::{

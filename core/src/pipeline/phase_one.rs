@@ -3,7 +3,7 @@
 //! object clusters, the grid and its reduced map.
 
 use super::acquire_and_update::capture_burst;
-use super::episode::Episode;
+use super::episode_state::Episode;
 use super::plan_and_execute::goals_at;
 use super::step_timer::timed;
 use super::{

@@ -47,10 +47,10 @@ mod merge;
 mod nearest_cache;
 mod neighbour_graph;
 mod normals;
+mod outcome;
 mod output_files;
 mod params;
 mod procrustes;
-mod report;
 mod view_tree;
 
 pub use error::RegistrationError;
@@ -60,13 +60,13 @@ pub use map::free_space::FreeSpace;
 pub use map::preparation::MapPreparation;
 pub use map::view_model::{PosePrior, RangeNoise, ViewModel};
 pub use normals::estimate_normals;
-pub use output_files::{RegistrationFileError, RegistrationFiles};
-pub use params::{IcpParams, MapParams, Method, RegistrationParams, SetRule};
-pub use procrustes::rigid_procrustes;
-pub use report::{
+pub use outcome::{
     GpaReport, IcpReport, MapReport, MapViewReport, MethodReport, PairReport, Registration,
     SequentialIcpReport, StopReason,
 };
+pub use output_files::{RegistrationFileError, RegistrationFiles};
+pub use params::{IcpParams, MapParams, Method, RegistrationParams, SetRule};
+pub use procrustes::rigid_procrustes;
 
 use crate::cloud::PointCloud;
 use crate::math::Pose;

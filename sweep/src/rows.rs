@@ -348,7 +348,7 @@ impl EpisodeRow {
 /// value (empty without a curve).
 ///
 /// ```
-/// let m = nbv_sweep::results::mean_curve([&[0.2, 0.6][..], &[0.4, 0.5, 0.9][..]]);
+/// let m = nbv_sweep::rows::mean_curve([&[0.2, 0.6][..], &[0.4, 0.5, 0.9][..]]);
 /// assert_eq!(m, vec![0.30000000000000004, 0.55, 0.75]);
 /// ```
 pub fn mean_curve<'a>(curves: impl IntoIterator<Item = &'a [f64]>) -> Vec<f64> {
