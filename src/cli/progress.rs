@@ -59,8 +59,8 @@ impl ExploreObserver for ProgressObserver {
             } => {
                 format!("object {object}: view {views} taken, gain {gain:.2}")
             }
-            ExploreEvent::ObjectDone { object, reason, .. } => {
-                format!("object {object}: done ({reason:?})")
+            ExploreEvent::ObjectDone { object, stop } => {
+                format!("object {object}: done ({stop})")
             }
             ExploreEvent::Registered { object, .. } => format!("object {object}: registered"),
             ExploreEvent::Retreated { object } => {

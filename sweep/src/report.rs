@@ -592,7 +592,7 @@ fn object_entry(
         viewpoints_failed: object.failures.iter().map(|f| f.reason.clone()).collect(),
         candidates_evaluated: object.candidates_evaluated,
         retreats: object.retreats,
-        stop: stop_text(&object.stop),
+        stop: object.stop.to_string(),
         quality: surface.quality(&model),
         quality_mid_range: surface.quality(&object.cluster),
         quality_unregistered: surface.quality(&unregistered),
@@ -900,32 +900,6 @@ fn view_entry(v: &nbv_core::pipeline::AcquiredView) -> ViewEntry {
         object_points: v.cloud.len(),
         failures_before: v.failures_before,
         new_surface: v.new_surface,
-    }
-}
-
-fn stop_text(stop: &ObjectStop) -> String {
-    match stop {
-        ObjectStop::Rule(nbv_core::nbv::StopReason::LowGain { gain, threshold }) => {
-            format!("gain {gain:.3} below threshold {threshold}")
-        }
-        ObjectStop::Rule(nbv_core::nbv::StopReason::NoViewpoint) => "no viewpoint left".into(),
-        ObjectStop::Rule(nbv_core::nbv::StopReason::NoNewSurface {
-            share,
-            threshold,
-            views,
-        }) => format!(
-            "the last {views} views added less than {:.1} % new surface (last {:.2} %)",
-            100.0 * threshold,
-            100.0 * share
-        ),
-        ObjectStop::Rule(nbv_core::nbv::StopReason::RelativeGain { gain, first, ratio }) => {
-            format!("best candidate's gain {gain:.3} below {ratio} of the first round's {first:.3}")
-        }
-        ObjectStop::MaxViews => "view cap reached".into(),
-        ObjectStop::NotExplored => "not explored (mid-only)".into(),
-        ObjectStop::NotAnObject { points } => format!(
-            "dropped, not an object: its first short-range view has {points} point(s) where phase 1 put it"
-        ),
     }
 }
 

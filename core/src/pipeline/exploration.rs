@@ -77,13 +77,8 @@ pub fn explore(
             let table = segmentation.table.as_ref();
             explore_object(&mut ep, &nbv, &mut map, &region, table, &mut object)?;
         }
-        let stop = match object.stop {
-            ObjectStop::Rule(r) => Some(r),
-            _ => None,
-        };
         ep.observer.event(&ExploreEvent::ObjectDone {
             object: j,
-            reason: stop,
             stop: object.stop,
         });
         let dropped = matches!(object.stop, ObjectStop::NotAnObject { .. });

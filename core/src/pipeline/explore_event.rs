@@ -7,7 +7,7 @@
 use super::{AcquiredView, ObjectExploration, ObjectStop, StepTimes};
 use crate::cloud::PointCloud;
 use crate::math::Pose;
-use crate::nbv::{StopReason, ViewpointList};
+use crate::nbv::ViewpointList;
 use crate::occupancy::OccupancyGrid;
 use crate::rig::{JointPath, Motion, ScanLine};
 
@@ -102,9 +102,7 @@ pub enum ExploreEvent<'a> {
     ObjectDone {
         /// Object index.
         object: usize,
-        /// Why, if the stop rule decided; `None` when the view cap was reached.
-        reason: Option<StopReason>,
-        /// Why, in full.
+        /// Why.
         stop: ObjectStop,
     },
     /// The views of an object were registered.

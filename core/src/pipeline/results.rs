@@ -150,6 +150,43 @@ pub enum ObjectStop {
     },
 }
 
+impl std::fmt::Display for ObjectStop {
+    /// Why the object's exploration ended, as the report and the progress line say it.
+    ///
+    /// ```
+    /// use nbv_core::pipeline::ObjectStop;
+    /// assert_eq!(ObjectStop::MaxViews.to_string(), "view cap reached");
+    /// ```
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Rule(StopReason::LowGain { gain, threshold }) => {
+                write!(f, "gain {gain:.3} below threshold {threshold}")
+            }
+            Self::Rule(StopReason::NoViewpoint) => write!(f, "no viewpoint left"),
+            Self::Rule(StopReason::NoNewSurface {
+                share,
+                threshold,
+                views,
+            }) => write!(
+                f,
+                "the last {views} views added less than {:.1} % new surface (last {:.2} %)",
+                100.0 * threshold,
+                100.0 * share
+            ),
+            Self::Rule(StopReason::RelativeGain { gain, first, ratio }) => write!(
+                f,
+                "best candidate's gain {gain:.3} below {ratio} of the first round's {first:.3}"
+            ),
+            Self::MaxViews => write!(f, "view cap reached"),
+            Self::NotExplored => write!(f, "not explored (mid-only)"),
+            Self::NotAnObject { points } => write!(
+                f,
+                "dropped, not an object: its first short-range view has {points} point(s) where phase 1 put it"
+            ),
+        }
+    }
+}
+
 /// The registrations of an object's views (view 0 is the phase-1 cluster, the
 /// reference), all from the same input.
 #[derive(Debug, Clone, PartialEq)]
