@@ -76,12 +76,8 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
     let mut map =
         ExplorationMap::after_phase_one(phase.grid.clone(), &phase.cloud, config.nbv.objective)
             .context("the map after phase 1")?;
-    let regions: Vec<ObjectRegion> = segmentation
-        .clusters
-        .iter()
-        .map(|c| ObjectRegion::of_cluster(c, segmentation.table.as_ref(), config.object_margin))
-        .collect();
-    map.set_objects(&regions, config.nbv.free_above_objects);
+    let regions = ObjectRegion::of_segmentation(&segmentation, config.object_margin);
+    map.set_free_above(&regions, config.nbv.free_above_objects);
     let nbv = NextBestView::new(config.nbv, rig.camera.spec())?;
     let start = rig.arm.joints()?;
     let mut out = Vec::new();

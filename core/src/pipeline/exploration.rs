@@ -49,12 +49,8 @@ pub fn explore(
     // is no accurate reference).
     let sweep = (config.mode != ExploreMode::ShortOnly).then_some(&phase_report.cloud);
     let nbv = NextBestView::new(config.nbv, ep.rig.camera.spec())?;
-    ep.footprints = segmentation
-        .clusters
-        .iter()
-        .map(|c| ObjectRegion::of_cluster(c, segmentation.table.as_ref(), config.object_margin))
-        .collect();
-    map.set_objects(&ep.footprints, config.nbv.free_above_objects);
+    ep.footprints = ObjectRegion::of_segmentation(&segmentation, config.object_margin);
+    map.set_free_above(&ep.footprints, config.nbv.free_above_objects);
     for (j, cluster) in segmentation.clusters.iter().enumerate() {
         let region = ep.footprints[j];
         let mut object = ObjectExploration {

@@ -69,14 +69,14 @@ impl ExplorationMap {
     /// let region = |top: f64| ObjectRegion {
     ///     min: Point3::new(0.0, 0.0, 0.0), max: Point3::new(0.1, 0.1, top), table: Some(0.0), top,
     /// };
-    /// map.set_objects(&[region(0.25), region(0.42)], true);
+    /// map.set_free_above(&[region(0.25), region(0.42)], true);
     /// assert_eq!(map.free_above, Some(0.42));
     /// // The unknown voxels from z = 0.5 up lie wholly above the higher object.
     /// assert_eq!(map.unknown_above_objects(), vec![11, 13, 15, 17, 19]);
-    /// map.set_objects(&[region(0.25)], false);
+    /// map.set_free_above(&[region(0.25)], false);
     /// assert!(map.unknown_above_objects().is_empty());
     /// ```
-    pub fn set_objects(&mut self, regions: &[ObjectRegion], free_above_objects: bool) {
+    pub fn set_free_above(&mut self, regions: &[ObjectRegion], free_above_objects: bool) {
         self.free_above = regions
             .iter()
             .map(|r| r.max.z)

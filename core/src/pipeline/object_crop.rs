@@ -3,6 +3,7 @@
 //! table) and where the centre of its viewing sphere lies.
 
 use crate::cloud::{Cluster, PlaneFit, PointCloud};
+use crate::perception::ObjectSegmentation;
 use nalgebra::Point3;
 
 /// An axis-aligned region around an object, and the table it rests on.
@@ -68,6 +69,16 @@ impl ObjectRegion {
             .filter(|t| t.normal.z > 0.5)
             .map(|t| -(t.offset + t.normal.x * c.x + t.normal.y * c.y) / t.normal.z);
         Self::around(cluster.min, cluster.max, margin, table)
+    }
+
+    /// The region of every cluster of a phase-1 `segmentation`, in cluster order
+    /// ([`of_cluster`](Self::of_cluster) over its table).
+    pub fn of_segmentation(segmentation: &ObjectSegmentation, margin: f64) -> Vec<Self> {
+        segmentation
+            .clusters
+            .iter()
+            .map(|c| Self::of_cluster(c, segmentation.table.as_ref(), margin))
+            .collect()
     }
 
     /// The centre of the viewing sphere (Algorithm 2, line 1) for the `centroid` of the
