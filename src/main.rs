@@ -38,6 +38,9 @@ enum Command {
     /// Episodes of `nbv explore` over a grid of scenes, parameters and seeds: CSV, summary,
     /// plots, shards, resume, `--require` gates for CI.
     Sweep(cli::sweep::SweepArgs),
+    /// Scene parameters (α_u, α_o, the gain threshold, …) tuned by Bayesian optimisation
+    /// over training episodes: trials, a Pareto front of two objectives, validation.
+    Tune(cli::tune::TuneArgs),
 }
 
 /// A closed standard output (`nbv scene describe … | head`) ends the program quietly with
@@ -77,6 +80,7 @@ fn main() -> std::process::ExitCode {
         Command::Views(args) => cli::views::run(args).map(|()| std::process::ExitCode::SUCCESS),
         Command::Oracle(args) => cli::oracle::run(args).map(|()| std::process::ExitCode::SUCCESS),
         Command::Sweep(args) => cli::sweep::run(args),
+        Command::Tune(args) => cli::tune::run(args).map(|()| std::process::ExitCode::SUCCESS),
     };
     match result {
         Ok(code) => code,

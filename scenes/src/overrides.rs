@@ -85,7 +85,8 @@ pub enum KeyError {
 
 /// `base` with each dotted key set to its value (`nbv explore --set`, a sweep's
 /// `[params]`), in order, checked by the scene's own validation so a bad key or value names
-/// itself; `nbv.preset` first resets every `[nbv]` value to the preset's;
+/// itself; `nbv.preset`, wherever it stands, first resets every `[nbv]` value to the
+/// preset's, and the other keys apply on top (a sweep orders its keys alphabetically);
 /// `origin` says where the overrides came from, `name` names the result in errors.
 pub fn with_overrides(
     base: &Scene,
@@ -98,9 +99,13 @@ pub fn with_overrides(
     }
     let to_toml = |what| move |source| OverrideError::ToToml { what, source };
     let mut value = toml::Value::try_from(base).map_err(to_toml("scene"))?;
-    for (key, v) in overrides {
+    let presets_first = overrides
+        .iter()
+        .filter(|(k, _)| k == "nbv.preset")
+        .chain(overrides.iter().filter(|(k, _)| k != "nbv.preset"));
+    for (key, v) in presets_first {
         if key == "nbv.preset" {
-            // A preset replaces every `[nbv]` value (keys set after it apply on top).
+            // A preset replaces every `[nbv]` value (the other keys apply on top).
             let preset: crate::schema::NbvPreset =
                 v.clone()
                     .try_into()
@@ -251,7 +256,7 @@ mod tests {
     }
 
     #[test]
-    fn a_preset_replaces_the_nbv_section_and_later_keys_apply_on_top() {
+    fn a_preset_replaces_the_nbv_section_and_the_other_keys_apply_on_top() {
         use crate::schema::{Nbv, NbvPreset};
         let base = load("paper-env1").unwrap();
         let set = [
@@ -260,8 +265,10 @@ mod tests {
             parse_override("nbv.alpha_o=3").unwrap(),
         ];
         let s = with_overrides(&base, &set, "--set", "env1").unwrap();
-        // alpha_u=2 came before the preset: the preset's value wins.
+        // alpha_u=2 came before the preset and still applies: a sweep's keys are in
+        // alphabetical order, where `nbv.alpha_u` precedes `nbv.preset`.
         let expected = Nbv {
+            alpha_u: 2.0,
             alpha_o: 3.0,
             ..Nbv::preset(NbvPreset::Paper)
         };

@@ -12,4 +12,5 @@ pub mod render;
 pub mod scan;
 pub mod scene;
 pub mod sweep;
+pub mod tune;
 pub mod views;

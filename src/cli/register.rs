@@ -66,10 +66,11 @@ pub struct RegisterArgs {
     #[arg(long, value_name = "K", default_value_t = 0)]
     reference: usize,
     /// Maximum correspondence distance d_max (metres).
-    #[arg(long, value_name = "METRES", default_value_t = 0.01)]
+    #[arg(long, value_name = "METRES",
+          default_value_t = RegistrationParams::default().max_correspondence_distance)]
     max_distance: f64,
     /// Cap on iterations (sequential ICP: per pair).
-    #[arg(long, value_name = "N", default_value_t = 300)]
+    #[arg(long, value_name = "N", default_value_t = RegistrationParams::default().max_iterations)]
     max_iterations: usize,
     /// map: the prior on every non-reference view's initial pose, as
     /// "DEGREES,METRES" (σ of each rotation and translation component, about the view's

@@ -17,6 +17,8 @@
 //! - [`views`]: what `nbv views` lists — each object's next-best-view candidates,
 //!   planned and checked in the twin.
 //! - [`recording`] (feature `rerun`): `episode.rrd`, an episode for the Rerun viewer.
+//! - [`tune`]: `nbv tune` — scene parameters tuned by Bayesian optimisation over
+//!   training episodes, a Pareto front of two objectives, checked on unseen seeds.
 //! - [`error`]: the error type, [`SweepError`].
 
 pub mod engine;
@@ -36,6 +38,7 @@ pub mod recording;
 pub mod report;
 pub mod rows;
 pub mod shard;
+pub mod tune;
 pub mod views;
 
 pub use error::{Result, SweepError};
