@@ -191,32 +191,43 @@ impl SweepRun {
     }
 }
 
-/// One episode: its scene, the episode ([`crate::episode::run_episode`]), then the row
-/// file (written last, so a row exists only for a finished episode).
+/// One episode of a sweep directory: its outputs into `episodes/<id>/`, its row file.
 fn run_one(
     grid: &SweepGrid,
     e: &Episode,
     out: &Path,
     extras: crate::episode::Extras,
 ) -> Result<()> {
-    let scene = e.scene(&grid.file)?;
     let dir = out.join("episodes").join(&e.id);
+    run_to_row(grid, e, &dir, &row_path(out, e), extras)
+}
+
+/// One episode: its scene, the episode ([`crate::episode::run_episode`]) into `dir`, then
+/// its row into `row` (written last, so a row exists only for a finished episode).
+pub fn run_to_row(
+    grid: &SweepGrid,
+    e: &Episode,
+    dir: &Path,
+    row: &Path,
+    extras: crate::episode::Extras,
+) -> Result<()> {
+    let scene = e.scene(&grid.file)?;
     // No row: whatever the directory holds is from an interrupted run of this episode
     // (partial outputs, temporary files of writes it never finished).
     if dir.exists() {
-        std::fs::remove_dir_all(&dir)
+        std::fs::remove_dir_all(dir)
             .with_context(|| format!("removing the unfinished {}", dir.display()))?;
     }
     let t = Instant::now();
     let report = crate::episode::run_episode(
         &scene,
         e.mode,
-        &dir,
+        dir,
         extras,
         &mut nbv_core::pipeline::NoObserver,
     )?;
-    let row = EpisodeRow::new(e, &report, t.elapsed().as_secs_f64());
-    write_json(&row_path(out, e), &row)
+    let r = EpisodeRow::new(e, &report, t.elapsed().as_secs_f64());
+    write_json(row, &r)
 }
 
 /// Writes the CSV, the summary and the plots of `rows` into `out`; checks the gates.

@@ -41,7 +41,6 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use spec::{Method, TuneSpec};
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 use trials::{Measured, Trial};
 
 /// A tuning to run.
@@ -338,35 +337,21 @@ impl Runner<'_> {
     }
 }
 
-/// One episode in a scratch directory under `DIR/.work/` (removed after), its row into
-/// `dir` (written last, so a row exists only for a finished episode).
+/// One episode in a scratch directory under `DIR/.work/` (removed after: a tuning keeps
+/// the rows alone), its row into `dir`.
 fn run_episode(out: &Path, dir: &Path, grid: &SweepGrid, e: &Episode) -> Result<()> {
-    let scene = e.scene(&grid.file)?;
     let name = dir
         .strip_prefix(out)
         .unwrap_or(dir)
         .to_string_lossy()
         .replace(['/', '\\'], "-");
     let work = out.join(".work").join(format!("{name}-{}", e.id));
-    if work.exists() {
-        std::fs::remove_dir_all(&work)
-            .with_context(|| format!("removing the unfinished {}", work.display()))?;
-    }
-    let t = Instant::now();
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let extras = crate::episode::Extras {
         oracle: grid.oracle,
         ..Default::default()
     };
-    let report = crate::episode::run_episode(
-        &scene,
-        e.mode,
-        &work,
-        extras,
-        &mut nbv_core::pipeline::NoObserver,
-    )?;
-    let row = EpisodeRow::new(e, &report, t.elapsed().as_secs_f64());
-    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    write_json(&trials::row_file(dir, e), &row)?;
+    crate::engine::run_to_row(grid, e, &work, &trials::row_file(dir, e), extras)?;
     std::fs::remove_dir_all(&work).with_context(|| format!("removing {}", work.display()))
 }
 
