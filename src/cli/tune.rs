@@ -157,6 +157,22 @@ fn summary_text(s: &Summary) -> String {
         }
         None => t += "no trial met the constraints\n",
     }
+    if !s.against_default.is_empty() {
+        let d: Vec<String> = s
+            .against_default
+            .iter()
+            .map(|p| {
+                format!(
+                    "{} {:+.3} ± {:.3}",
+                    p.metric, p.difference, p.standard_error
+                )
+            })
+            .collect();
+        t += &format!(
+            "  against the scenes' own, episode by episode: {}\n",
+            d.join(", ")
+        );
+    }
     for v in &s.validation {
         t += &format!(
             "  validation seeds, {:<8} {}{}\n",

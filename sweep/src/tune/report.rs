@@ -92,6 +92,11 @@ pub struct Summary {
     pub pareto: Vec<Point>,
     /// The settings to use (the first chosen: `best`, or the front's `knee`).
     pub recommended: Option<Point>,
+    /// The recommended settings against the scenes' own, episode by episode on the
+    /// training episodes (both ran the same scenes and seeds): each objective's mean
+    /// difference (recommended − default) and its standard error, so a lead within the
+    /// seed-to-seed noise shows as such.
+    pub against_default: Vec<Paired>,
     /// The chosen settings and the scenes' own, at the validation seeds, beside their
     /// training figures.
     pub validation: Vec<Validated>,
@@ -131,6 +136,37 @@ pub struct Point {
     pub objectives: Vec<f64>,
     /// Each objective's standard error.
     pub standard_errors: Vec<f64>,
+}
+
+/// A paired difference over the same episodes.
+#[derive(Debug, Clone, Serialize)]
+pub struct Paired {
+    /// The objective's metric.
+    pub metric: String,
+    /// Mean of the per-episode differences.
+    pub difference: f64,
+    /// Its standard error.
+    pub standard_error: f64,
+}
+
+/// The paired differences `a − b` per objective over the same episodes.
+fn paired(objectives: &[Objective], a: &Measured, b: &Measured) -> Vec<Paired> {
+    objectives
+        .iter()
+        .enumerate()
+        .filter_map(|(k, o)| {
+            let (x, y) = (a.per_episode.get(k)?, b.per_episode.get(k)?);
+            if x.len() != y.len() || x.is_empty() {
+                return None;
+            }
+            let d: Vec<f64> = x.iter().zip(y).map(|(x, y)| x - y).collect();
+            Some(Paired {
+                metric: o.metric.clone(),
+                difference: d.iter().sum::<f64>() / d.len() as f64,
+                standard_error: crate::tune::trials::standard_error(&d),
+            })
+        })
+        .collect()
 }
 
 /// A setting on the training and the validation episodes.
@@ -235,7 +271,13 @@ impl Summary {
                 feasible: m.feasible,
             })
             .collect();
+        let default = reference.iter().find(|(l, _)| l == "default");
+        let against_default = match (chosen.first(), default) {
+            (Some((_, i)), Some((_, d))) => paired(&spec.objectives, &trials[*i].measured, d),
+            _ => Vec::new(),
+        };
         Self {
+            against_default,
             objectives: spec.objectives.clone(),
             constraints: spec.constraints.clone(),
             method: spec.method,
@@ -603,4 +645,102 @@ fn pareto_svg(
     drop(chart);
     drop(root);
     Ok(svg)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tune::proposer::Source;
+    use crate::tune::trials::Trial;
+    use proptest::prelude::*;
+    use std::path::Path;
+
+    const SPEC: &str = r#"generated = { seeds = [1], objects = 1 }
+        [parameters]
+        "nbv.alpha_u" = { min = 0.5, max = 8.0 }
+        [objectives]
+        maximize = "f_score_mean"
+        minimize = "views_per_object"
+        [constraints]
+        collisions = 0
+    "#;
+
+    fn spec(text: &str) -> TuneSpec {
+        TuneSpec::parse(text, Path::new("t.toml")).unwrap()
+    }
+
+    /// A trial measuring F-score `f` with `views` views, feasible or not.
+    fn trial(index: usize, f: f64, views: f64, feasible: bool) -> Evaluated {
+        Evaluated {
+            trial: Trial {
+                index,
+                source: Source::Random,
+                x: vec![index as f64],
+                params: vec![("nbv.alpha_u".into(), toml::Value::Float(index as f64))],
+            },
+            measured: Measured {
+                objectives: vec![f, views],
+                losses: vec![-f, views],
+                standard_errors: vec![0.0, 0.0],
+                per_episode: vec![vec![f, f], vec![views, views]],
+                constraint_values: vec![if feasible { 0.0 } else { 1.0 }],
+                feasible,
+            },
+        }
+    }
+
+    #[test]
+    fn chosen_settings_of_a_hand_made_front() {
+        let s = spec(SPEC);
+        let t = vec![
+            trial(0, 0.80, 4.0, true),
+            trial(1, 0.90, 6.0, true),
+            trial(2, 0.95, 12.0, true),
+            trial(3, 0.99, 3.0, false), // best in both, but infeasible
+            trial(4, 0.85, 8.0, true),  // dominated by trial 1
+        ];
+        let chosen = chosen(&s, &t);
+        assert_eq!(
+            chosen,
+            [
+                ("knee".to_string(), 1),
+                ("best-f_score_mean".to_string(), 2),
+                ("best-views_per_object".to_string(), 0)
+            ]
+        );
+        let summary = Summary::new(
+            &s,
+            &t,
+            &[],
+            vec![("default".into(), t[4].measured.clone())],
+            vec![],
+        );
+        let front: Vec<usize> = summary.pareto.iter().map(|p| p.trial).collect();
+        assert_eq!(front, [0, 1, 2]);
+        // Knee (trial 1) against the default (trial 4's figures): +0.05 F, −2 views.
+        assert!((summary.against_default[0].difference - 0.05).abs() < 1e-12);
+        assert!((summary.against_default[1].difference + 2.0).abs() < 1e-12);
+    }
+
+    proptest! {
+        /// Best so far never worsens, with one objective or two (the hypervolume).
+        #[test]
+        fn convergence_never_worsens(
+            trials in prop::collection::vec((0.0f64..1.0, 1.0f64..16.0, any::<bool>()), 1..20)
+        ) {
+            let t: Vec<Evaluated> = trials
+                .iter()
+                .enumerate()
+                .map(|(i, &(f, v, ok))| trial(i, f, v, ok))
+                .collect();
+            let one = spec(&SPEC.replace("minimize = \"views_per_object\"", ""));
+            for s in [spec(SPEC), one] {
+                let c = convergence(&s, &t, &[]);
+                let finite: Vec<f64> = c.tuned.iter().copied().filter(|v| v.is_finite()).collect();
+                for w in finite.windows(2) {
+                    prop_assert!(w[1] >= w[0] - 1e-12, "{:?}", c.tuned);
+                }
+            }
+        }
+    }
 }

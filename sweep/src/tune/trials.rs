@@ -150,7 +150,7 @@ impl Measured {
 }
 
 /// The standard error of the mean of `v` (0 for fewer than two values).
-fn standard_error(v: &[f64]) -> f64 {
+pub fn standard_error(v: &[f64]) -> f64 {
     let n = v.len() as f64;
     if v.len() < 2 {
         return 0.0;
