@@ -3,7 +3,7 @@
 //! command words, argument counts and line sizes the program reads; every reply line the
 //! program builds (its `send(…)` expressions, evaluated with sample values) through the
 //! client's decoder; and hand-written lines in the program's formats through the encoder
-//! and decoder. FACTS.md, "Comau C4G remote motion": line-based ASCII over a TCP server
+//! and decoder. the public C4G PDL2 servers: line-based ASCII over a TCP server
 //! socket on the controller's `'NETT:'` device, a function code then the values as text,
 //! `OK` per command and again when the motion completes.
 #![cfg(feature = "comau")]
@@ -62,7 +62,7 @@ fn the_program_speaks_this_protocol_version_and_line_length() {
     );
     // `READ vi_lun (vs_line)` into a STRING[256]: the longest line either side sends.
     assert_eq!(string_length(&code, "vs_line"), MAX_LINE);
-    // FACTS.md: one public server listens on port 12345; so does this one.
+    // One public PDL2 server listens on port 12345; so does this one.
     assert!(code.contains("ki_port = 12345"));
 }
 
@@ -96,8 +96,8 @@ fn every_command_the_client_encodes_is_one_the_program_reads() {
     let rest_max = string_length(&code, "lw");
     assert_eq!(rest_max, 64);
     // Hand-written lines of the client's encoder, down to the decimals (the program reads
-    // them with STR_TO_REAL). The MOVE is at the strokes' ends (FACTS.md, "Comau SMART SiX
-    // 6-1.4": J1 ±170°, J2 −85…+155°, J3 −170…0°, J4 ±210°, J5 ±130°, J6 ±2700°).
+    // them with STR_TO_REAL). The MOVE is at the strokes' ends (the SMART SiX 6-1.4
+    // data sheet: J1 ±170°, J2 −85…+155°, J3 −170…0°, J4 ±210°, J5 ±130°, J6 ±2700°).
     let golden = [
         (Command::Hello, "HELLO"),
         (Command::Override(25), "OVR 25"),

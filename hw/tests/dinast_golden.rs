@@ -13,9 +13,9 @@ use nbv_hw::dinast::{
 };
 use std::time::Duration;
 
-/// FACTS.md, Dinast: "A sync marker `AA AA 44 44 BB BB 77 77` starts a packet".
+/// The Dinast's public USB protocol: "A sync marker `AA AA 44 44 BB BB 77 77` starts a packet".
 const MARKER: [u8; 8] = [0xAA, 0xAA, 0x44, 0x44, 0xBB, 0xBB, 0x77, 0x77];
-/// FACTS.md, Dinast: "Each bulk read is 2×76800 + 512 bytes".
+/// The Dinast's public USB protocol: "Each bulk read is 2×76800 + 512 bytes".
 const PACKET_BYTES: usize = 154_112;
 
 /// One hand-placed raw pixel of the first (depth-coded) image: column x, row y, raw value
@@ -33,7 +33,7 @@ struct Pixel {
     point: Option<[f64; 3]>,
 }
 
-/// Hand computation (FACTS.md, Dinast, "Raw value p at pixel (x, y) …"), r = |(x, y) −
+/// Hand computation (the Dinast's public driver, "Raw value p at pixel (x, y) …"), r = |(x, y) −
 /// (160, 120)|, A = −2e-5·r³ + 0.004·r² + 0.1719·r + 350.03, B = −2e-9·r³ + 3e-7·r² − 1e-5·r
 /// − 0.01, K = 7e-7·r³ − 1e-4·r² + 0.004·r + 0.9985, dist = (ln(p/A)/B − 0.1·y)·K·1.5,
 /// θ = 64°·r/160, z = dist·cos θ/500, (x, y) = dist·sin θ·(dx, dy)/r/500:
@@ -169,7 +169,7 @@ struct ScriptedDevice {
     reads: usize,
 }
 
-/// FACTS.md, Dinast: "start 0xC7 and stop 0xC8 (host→device, bmRequestType 0x40, wValue
+/// The Dinast's public USB protocol: "start 0xC7 and stop 0xC8 (host→device, bmRequestType 0x40, wValue
 /// 0x01, wIndex 0, 1 byte); firmware version 0xDC (device→host 0xC0, wValue 0x02, wIndex
 /// 0x08, 21 bytes)", "Vendor control transfers, 1000 ms timeout".
 fn documented(setup: &ControlSetup) -> &'static str {

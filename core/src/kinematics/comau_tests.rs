@@ -98,7 +98,7 @@ fn ik_parameters_are_the_published_dh_lengths() {
     ] {
         assert!((got - want).abs() < 1e-12, "{got} != {want}");
     }
-    // Reach at the wrist centre: 1.400 m (FACTS.md).
+    // Reach at the wrist centre: 1.400 m (the SMART SiX 6-1.4 data sheet).
     let reach = p.a1 + p.a2 + (p.a3 * p.a3 + p.d4 * p.d4).sqrt();
     assert!((reach - 1.400).abs() < 1e-3);
 }

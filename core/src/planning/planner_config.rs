@@ -7,7 +7,7 @@ use super::PlanningError;
 
 /// Parameters of [`MotionPlanner`](super::MotionPlanner).
 ///
-/// Defaults and sources (shared FACTS, "Planning defaults"):
+/// Defaults and their sources (OpenRAVE's and OMPL's documented defaults):
 /// - `max_iterations` 4000: OpenRAVE's BiRRT budget, the planner of the paper's era;
 /// - `step` 0.1 rad (Euclidean norm in joint space): between OpenRAVE's 0.04 rad and
 ///   OMPL's RRT-Connect range (0.2 × the joint-space extent, several radians here). Edge

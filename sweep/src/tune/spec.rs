@@ -145,7 +145,7 @@ pub struct TuneSpec {
     pub method: Method,
     /// Also run random search with the same budget, for comparison.
     pub random_baseline: bool,
-    /// The tuned parameters, in the file's order.
+    /// The tuned parameters, by key (the order of `trials.csv`).
     pub parameters: Vec<Parameter>,
     /// One or two objectives.
     pub objectives: Vec<Objective>,
