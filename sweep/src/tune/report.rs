@@ -581,17 +581,21 @@ fn pareto_svg(
         .draw()
         .map_err(|e| invalid!("{e}"))?;
     let grey = RGBColor(150, 150, 150);
-    chart
-        .draw_series(
-            random
-                .iter()
-                .map(|e| Circle::new(xy(&e.measured), 3, grey.filled())),
-        )
-        .map_err(err)?
-        .label("random search")
-        .legend(move |(x, y)| Circle::new((x + 10, y), 3, grey.filled()));
     let blue = RGBColor(31, 119, 180);
     let red = RGBColor(214, 39, 40);
+    let infeasible: Vec<&Evaluated> = trials.iter().filter(|e| !e.measured.feasible).collect();
+    // Series with no point stay out of the legend.
+    if !random.is_empty() {
+        chart
+            .draw_series(
+                random
+                    .iter()
+                    .map(|e| Circle::new(xy(&e.measured), 3, grey.filled())),
+            )
+            .map_err(err)?
+            .label("random search")
+            .legend(move |(x, y)| Circle::new((x + 10, y), 3, grey.filled()));
+    }
     chart
         .draw_series(
             trials
@@ -602,16 +606,17 @@ fn pareto_svg(
         .map_err(err)?
         .label("trials")
         .legend(move |(x, y)| Circle::new((x + 10, y), 4, blue.filled()));
-    chart
-        .draw_series(
-            trials
-                .iter()
-                .filter(|e| !e.measured.feasible)
-                .map(|e| Cross::new(xy(&e.measured), 4, red.stroke_width(2))),
-        )
-        .map_err(err)?
-        .label("infeasible")
-        .legend(move |(x, y)| Cross::new((x + 10, y), 4, red.stroke_width(2)));
+    if !infeasible.is_empty() {
+        chart
+            .draw_series(
+                infeasible
+                    .iter()
+                    .map(|e| Cross::new(xy(&e.measured), 4, red.stroke_width(2))),
+            )
+            .map_err(err)?
+            .label("infeasible")
+            .legend(move |(x, y)| Cross::new((x + 10, y), 4, red.stroke_width(2)));
+    }
     let mut front: Vec<(f64, f64)> = summary
         .pareto
         .iter()
