@@ -122,12 +122,13 @@ fn figures(s: &Summary, values: &[f64], errors: &[f64]) -> String {
 
 fn summary_text(s: &Summary) -> String {
     let mut t = format!(
-        "{} trial(s) of {} episode(s) each ({:?}); {} on the front\n",
-        s.budget,
-        s.episodes_per_trial,
-        s.method,
-        s.pareto.len()
+        "{} trial(s) of {} episode(s) each ({:?})",
+        s.budget, s.episodes_per_trial, s.method
     );
+    if s.objectives.len() == 2 {
+        t += &format!("; {} on the front", s.pareto.len());
+    }
+    t += "\n";
     for r in &s.reference {
         t += &format!(
             "  {:<8} {}{}\n",
