@@ -239,6 +239,25 @@ mod tests {
         );
     }
 
+    /// Every trial measuring the same (a metric the parameters do not move) still gives
+    /// a full batch of new points.
+    #[test]
+    fn a_flat_objective_still_proposes_new_points() {
+        let p = proposer(Method::Bayesian, 2);
+        let mut observed: Vec<Observation> = Vec::new();
+        for (x, _) in p.propose(0, 5, &[]).unwrap() {
+            observed.push(Observation {
+                x,
+                losses: vec![1.0, 1.0],
+            });
+        }
+        let next = p.propose(5, 2, &observed).unwrap();
+        assert_eq!(next.len(), 2);
+        for (x, _) in &next {
+            assert!(!observed.iter().any(|o| &o.x == x));
+        }
+    }
+
     #[test]
     fn proposals_do_not_depend_on_the_batch_being_resumed() {
         let p = proposer(Method::Bayesian, 2);
