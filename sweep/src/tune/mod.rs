@@ -121,7 +121,7 @@ impl TuneRun {
         let reference = run.references()?;
         let chosen = report::chosen(&spec, &trials);
         let validation = run.validation(&chosen, &trials)?;
-        let summary = report::Summary::new(&spec, &trials, &random, reference, validation);
+        let summary = report::Summary::new(&spec, &trials, &random, &chosen, reference, validation);
         nbv_core::atomic_file::write_atomic(
             &out.join("trials.csv"),
             report::trials_csv(&spec, &trials, &random)?.as_bytes(),
@@ -375,7 +375,7 @@ fn observations(done: &[Evaluated]) -> Vec<Observation> {
     done.iter()
         .map(|e| {
             let losses = e.measured.losses.clone();
-            let ok = e.measured.feasible && losses.iter().all(|l| l.is_finite());
+            let ok = e.measured.usable();
             Observation {
                 x: e.trial.x.clone(),
                 losses: if ok { losses } else { worst.clone() },

@@ -19,8 +19,7 @@ fn params_map(e: &Evaluated) -> BTreeMap<String, toml::Value> {
 /// The best feasible trial in loss `k` (ties: the other losses, then the first).
 fn best_in(trials: &[Evaluated], k: usize) -> Option<usize> {
     (0..trials.len())
-        .filter(|&i| trials[i].measured.feasible)
-        .filter(|&i| trials[i].measured.losses.iter().all(|l| l.is_finite()))
+        .filter(|&i| trials[i].measured.usable())
         .min_by(|&a, &b| {
             let (la, lb) = (&trials[a].measured.losses, &trials[b].measured.losses);
             la[k]
@@ -32,8 +31,7 @@ fn best_in(trials: &[Evaluated], k: usize) -> Option<usize> {
 /// The feasible trials' Pareto front (indices into `trials`).
 fn feasible_front(trials: &[Evaluated]) -> Vec<usize> {
     let feasible: Vec<usize> = (0..trials.len())
-        .filter(|&i| trials[i].measured.feasible)
-        .filter(|&i| trials[i].measured.losses.iter().all(|l| l.is_finite()))
+        .filter(|&i| trials[i].measured.usable())
         .collect();
     let losses: Vec<Vec<f64>> = feasible
         .iter()
@@ -219,15 +217,15 @@ fn point(trials: &[Evaluated], i: usize, label: Option<String>) -> Point {
 }
 
 impl Summary {
-    /// The summary of a finished tuning.
+    /// The summary of a finished tuning, with its [`chosen`] settings.
     pub fn new(
         spec: &TuneSpec,
         trials: &[Evaluated],
         random: &[Evaluated],
+        chosen: &[(String, usize)],
         reference: Vec<(String, Measured)>,
         validation: Vec<(String, Option<usize>, Measured)>,
     ) -> Self {
-        let chosen = chosen(spec, trials);
         let label_of = |i: usize| chosen.iter().find(|(_, j)| *j == i).map(|(l, _)| l.clone());
         let best = spec
             .objectives
@@ -300,8 +298,7 @@ impl Summary {
 
 /// Best so far after each trial of both arms.
 fn convergence(spec: &TuneSpec, trials: &[Evaluated], random: &[Evaluated]) -> Convergence {
-    let ok =
-        |e: &&Evaluated| e.measured.feasible && e.measured.losses.iter().all(|l| l.is_finite());
+    let ok = |e: &&Evaluated| e.measured.usable();
     if spec.objectives.len() == 1 {
         let o = &spec.objectives[0];
         let curve = |arm: &[Evaluated]| -> Vec<f64> {
@@ -717,6 +714,7 @@ mod tests {
             &s,
             &t,
             &[],
+            &chosen,
             vec![("default".into(), t[4].measured.clone())],
             vec![],
         );

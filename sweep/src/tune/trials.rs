@@ -112,6 +112,11 @@ pub struct Measured {
 }
 
 impl Measured {
+    /// Whether the trial counts as a result: feasible, every objective a number.
+    pub fn usable(&self) -> bool {
+        self.feasible && self.losses.iter().all(|l| l.is_finite())
+    }
+
     /// The figures of `rows`.
     pub fn of(rows: &[EpisodeRow], objectives: &[Objective], constraints: &[Constraint]) -> Self {
         let all = Aggregate::of(rows);
