@@ -83,3 +83,37 @@ fn the_back_wall_is_no_object_under_three_and_five_times_the_errors() {
         assert_eq!(report["objects"].as_array().unwrap().len(), 3);
     }
 }
+
+#[test]
+fn a_small_figurine_seen_in_pieces_is_one_cluster() {
+    // Generated layout 15 (all shapes): the sweep sees the 15 cm figurine as its head, body
+    // and legs 2.4-2.6 cm apart, each below `min_cluster_points`; the figurine was missed.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("g15.toml");
+    let scene = scene.to_str().unwrap();
+    let run = nbv(&[
+        "scene",
+        "generate",
+        "--seed",
+        "15",
+        "--objects",
+        "3",
+        "--shapes",
+        "all",
+        "-o",
+        scene,
+    ]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    for scale in [1.0, 3.0] {
+        let out = dir.path().join(format!("x{scale}"));
+        let report = phase_one(scene, scale, None, &out);
+        check(&report, &format!("generated 15 (all shapes) at x{scale}"));
+        let names: Vec<&str> = report["objects"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|o| o["name"].as_str())
+            .collect();
+        assert!(names.contains(&"figurine"), "{names:?}");
+    }
+}

@@ -9,9 +9,11 @@
 //! - [`merge_stacked_parts`]: the parts of one object the sweep saw apart, one cluster again;
 //! - [`merge_bridged_parts`]: the parts only the thin parts the outlier filter removed join
 //!   (a rim, a leg, a tail), one cluster again;
+//! - [`merge_fragments`]: the pieces of a small object, each too small alone, one cluster;
 //! - [`build_map`]: cloud with origins → [`PhaseOneMap`] (grid, scan counters, reduced map);
 //! - [`phase_one`]: both, with a [`PhaseOneConfig`] → [`PhaseOne`].
 
+mod fragments;
 mod obstacle_sliver;
 mod oriented_box;
 mod perception_error;
@@ -23,6 +25,7 @@ mod table_filter;
 mod thin_parts;
 mod workcell_alignment;
 
+pub use fragments::merge_fragments;
 pub use obstacle_sliver::{ObstacleSliver, obstacle_sliver};
 pub use oriented_box::OrientedBox;
 pub use perception_error::PerceptionError;
