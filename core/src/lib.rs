@@ -25,3 +25,4 @@ pub mod pipeline;
 pub mod planning;
 pub mod registration;
 pub mod rig;
+pub mod surface;

@@ -208,6 +208,7 @@ impl Scene {
             ),
             object_margin: ObjectRegion::MARGIN,
             table_filter: Some(self.table_filter()),
+            surface: self.model.params(),
             seed: self.seed,
         })
     }

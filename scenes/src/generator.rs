@@ -415,6 +415,7 @@ fn generated_scene(
         planner: Planner::default(),
         registration: Registration::default(),
         errors: ErrorModel::default(),
+        model: Model::default(),
         source: None,
     }
 }

@@ -60,6 +60,9 @@ pub struct Scene {
     /// Errors injected into reported poses.
     #[serde(default)]
     pub errors: ErrorModel,
+    /// The fused surface of each object.
+    #[serde(default)]
+    pub model: Model,
     /// The file the scene came from (`None` for a scene built in memory). Not serialised.
     #[serde(skip)]
     pub source: Option<PathBuf>,

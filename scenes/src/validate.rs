@@ -88,7 +88,8 @@ fn scalars(s: &Scene, c: &Check) -> Result<(), SceneError> {
     s.nbv.check(c)?;
     s.planner.check(c)?;
     s.registration.check(c)?;
-    s.errors.check(c)
+    s.errors.check(c)?;
+    s.model.check(c)
 }
 
 /// The robot's URDF loads as a kinematic model with closed-form IK, carries both sensor

@@ -63,12 +63,13 @@ fn mm(e: &Option<RegistrationScore>) -> String {
 fn object_line(o: &ObjectEntry) -> String {
     let q = o.quality.as_ref();
     format!(
-        "  {:<12} F {:>5}  P {:>5}  C {:>5}  chamfer {:>7}  as acquired F {:>5}  views {:>2}  failed {:>2}  alignment as acquired {:>7}  map {:>7}  p-icp-gpa {:>7}  icp {:>7}  ({})\n",
+        "  {:<12} F {:>5}  P {:>5}  C {:>5}  chamfer {:>7}  mesh F@5mm {:>5}  as acquired F {:>5}  views {:>2}  failed {:>2}  alignment as acquired {:>7}  map {:>7}  p-icp-gpa {:>7}  icp {:>7}  ({})\n",
         o.name,
         pct(q.map(|q| q.f_score)),
         pct(q.map(|q| q.precision)),
         pct(q.map(|q| q.completeness)),
         q.map_or("-".to_string(), |q| format!("{:.1} mm", q.chamfer * 1e3)),
+        pct(o.mesh_quality.as_ref().map(|m| m.f_score[1])),
         pct(o.quality_unregistered.map(|q| q.f_score)),
         o.views.len(),
         o.viewpoints_failed.len(),
@@ -230,7 +231,8 @@ fn legend() -> String {
         "  (F: F-score, the harmonic mean of P, the share of the model's points within \
              {tau:.0} mm of the true surface, and C, the share of the true surface above the \
              table within {tau:.0} mm of the model (its coverage); chamfer: mean of the mean \
-             distances model to surface and surface to model; as acquired: the views before \
+             distances model to surface and surface to model; mesh F@5mm: the F-score at 5 mm \
+             of the fused surface, model_mesh.ply; as acquired: the views before \
              registration)\n",
         tau = QUALITY_TOLERANCE * 1e3
     );

@@ -7,6 +7,8 @@
 //! OUT/map/grid.nbvgrid           the occupancy grid after phase 1 (final.nbvgrid: at the end)
 //! OUT/mid_range.ply              the phase-1 sweep cloud
 //! OUT/objects/<name>/model.ply   the registered model; views/view_NN.ply each view
+//! OUT/objects/<name>/model_mesh.ply  the fused surface (triangles, normals, world frame)
+//! OUT/objects/<name>/rgbd/       its registered camera views in Open3D's layout
 //! OUT/*.png                      the pictures, when asked ([`crate::pictures`])
 //! OUT/oracle.json                the ground-truth ceiling, when asked ([`crate::oracle`]),
 //! OUT/coverage_by_view.svg       and each object's coverage by view beside it
@@ -16,7 +18,8 @@
 use crate::error::{Context, Result, bail};
 use crate::report::{ExploreReport, evaluate};
 use nbv_core::cloud::io::{WriteOptions, write_cloud};
-use nbv_core::pipeline::{Exploration, ExploreConfig, ExploreMode, ExploreObserver};
+use nbv_core::mesh::io::write_ply_mesh;
+use nbv_core::pipeline::{Exploration, ExploreConfig, ExploreMode, ExploreObserver, object_views};
 use nbv_sim::rig::SimRig;
 use std::path::Path;
 
@@ -165,14 +168,20 @@ pub fn finish_episode(
         crate::layout::write_json(&out.join("oracle.json"), oracle)?;
         crate::plots::write_episode_coverage(out, &report)?;
     }
-    write_outputs(out, exploration, &report)?;
+    write_outputs(out, scene, config, exploration, &report)?;
     if pictures {
         crate::pictures::write(out, scene, exploration, &report);
     }
     Ok(report)
 }
 
-fn write_outputs(out: &Path, exploration: &Exploration, report: &ExploreReport) -> Result<()> {
+fn write_outputs(
+    out: &Path,
+    scene: &nbv_scenes::Scene,
+    config: &ExploreConfig,
+    exploration: &Exploration,
+    report: &ExploreReport,
+) -> Result<()> {
     check_output(out)?;
     std::fs::create_dir_all(out.join("map"))
         .with_context(|| format!("creating {}", out.display()))?;
@@ -189,6 +198,17 @@ fn write_outputs(out: &Path, exploration: &Exploration, report: &ExploreReport) 
         std::fs::create_dir_all(dir.join("views"))
             .with_context(|| format!("creating {}", dir.display()))?;
         write_cloud(dir.join("model.ply"), &object.model()?, &opts)?;
+        if let Some(surface) = &object.surface {
+            let path = dir.join("model_mesh.ply");
+            write_ply_mesh(&surface.mesh, &surface.normals, &path)
+                .with_context(|| format!("writing {}", path.display()))?;
+        }
+        if let Some(views) = object_views(object, &scene.sensors.short_range.spec(), config) {
+            let path = dir.join("rgbd");
+            views
+                .write(&path)
+                .with_context(|| format!("writing {}", path.display()))?;
+        }
         write_cloud(dir.join("views/view_00.ply"), &object.cluster, &opts)?;
         for (k, v) in object.views.iter().enumerate() {
             write_cloud(

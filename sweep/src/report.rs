@@ -5,8 +5,8 @@ use crate::error::Result;
 use crate::matching::{cluster_truth, true_object};
 use nbv_core::cloud::PointCloud;
 use nbv_core::evaluation::{
-    ModelQuality, alignment_error, model_quality, point_error, quality_samples, surface_coverage,
-    surface_coverage_curve,
+    MeshQuality, ModelQuality, alignment_error, mesh_quality, model_quality, point_error,
+    quality_samples, surface_coverage, surface_coverage_curve,
 };
 use nbv_core::math::Pose;
 use nbv_core::mesh::TriMesh;
@@ -40,6 +40,7 @@ pub struct Times {
     nbv: f64,
     planning: f64,
     registration: f64,
+    meshing: f64,
     total: f64,
 }
 
@@ -60,6 +61,7 @@ impl From<&StepTimes> for Times {
             nbv: t.nbv,
             planning: t.planning,
             registration: t.registration,
+            meshing: t.meshing,
             total: t.total(),
         }
     }
@@ -154,6 +156,9 @@ pub struct ObjectEntry {
     /// The same for the views as acquired (no registration): how far the rig's pose error
     /// alone leaves the model.
     pub quality_unregistered: Option<ModelQuality>,
+    /// The fused surface (`model_mesh.ply`) against the true surface at 2, 5 and 10 mm
+    /// ([`nbv_core::evaluation::mesh_quality`]); `None` without a mesh or a true object.
+    pub mesh_quality: Option<MeshQuality>,
     /// Share of the true surface above the table within tolerance of the model (the model
     /// of the MAP registration, `objects/<name>/model.ply`), from 20,000 surface samples:
     /// the completeness of `quality` up to sampling. Misaligned views raise it.
@@ -596,6 +601,10 @@ fn object_entry(
         quality: surface.quality(&model),
         quality_mid_range: surface.quality(&object.cluster),
         quality_unregistered: surface.quality(&unregistered),
+        mesh_quality: object
+            .surface
+            .as_ref()
+            .and_then(|m| surface.mesh_quality(&m.mesh)),
         coverage: surface.coverage(&model),
         coverage_mid_range: surface.coverage(&object.cluster),
         coverage_unregistered: surface.coverage(&unregistered),
@@ -647,6 +656,12 @@ impl TrueSurface<'_> {
                 self.scene.seed,
             )
         })
+    }
+
+    /// The quality of a reconstructed surface mesh ([`mesh_quality`]).
+    fn mesh_quality(&self, reconstruction: &TriMesh) -> Option<MeshQuality> {
+        self.mesh
+            .and_then(|mesh| mesh_quality(mesh, reconstruction, self.floor(), self.scene.seed))
     }
 
     /// The coverage of `model` ([`coverage`]).

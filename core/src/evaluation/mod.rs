@@ -7,12 +7,14 @@
 //! ([`alignment_error`]).
 
 mod alignment_error;
+mod mesh_quality;
 mod model_precision;
 mod model_quality;
 mod point_error;
 mod surface_coverage;
 
 pub use alignment_error::alignment_error;
+pub use mesh_quality::{MESH_TOLERANCES, MeshQuality, mesh_quality};
 pub use model_precision::model_precision;
 pub use model_quality::{ModelQuality, f_score, model_quality, quality_samples};
 pub use point_error::{PointError, point_error};

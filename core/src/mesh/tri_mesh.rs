@@ -115,6 +115,30 @@ impl TriMesh {
             .all(|(&(a, b), &n)| n == 1 && directed.get(&(b, a)) == Some(&1))
     }
 
+    /// Its edges by how many triangles share each: those of one triangle (the boundary of
+    /// a hole or an open rim) and those of three or more (non-manifold).
+    ///
+    /// ```
+    /// use nbv_core::mesh::TriMesh;
+    /// let cube = TriMesh::cuboid([0.5; 3]);
+    /// assert_eq!(cube.edge_counts(), (0, 0));
+    /// let mut open = cube.clone();
+    /// open.triangles.pop();
+    /// assert_eq!(open.edge_counts(), (3, 0));
+    /// ```
+    pub fn edge_counts(&self) -> (usize, usize) {
+        let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
+        for t in &self.triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                *edges.entry((a.min(b), a.max(b))).or_default() += 1;
+            }
+        }
+        let boundary = edges.values().filter(|&&n| n == 1).count();
+        let non_manifold = edges.values().filter(|&&n| n > 2).count();
+        (boundary, non_manifold)
+    }
+
     /// Applies a rigid transform to every vertex.
     pub fn transformed(&self, t: &Isometry3<f64>) -> Self {
         Self {

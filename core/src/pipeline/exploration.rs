@@ -3,6 +3,7 @@
 
 use super::ExplorationMap;
 use super::episode_state::Episode;
+use super::fuse_surface::fuse_surface;
 use super::object_loop::explore_object;
 use super::register_views::{refine_along_rays, register_calibrated, register_object};
 use super::step_timer::timed;
@@ -63,6 +64,7 @@ pub fn explore(
             stop: ObjectStop::NotExplored,
             registration: None,
             registration_error: None,
+            surface: None,
             times: StepTimes::default(),
         };
         ep.observer.event(&ExploreEvent::ObjectStarted {
@@ -114,6 +116,16 @@ pub fn explore(
     register_again(&mut objects, &preparations, |object, prepared| {
         refine_along_rays(object, prepared, config)
     });
+    if let Some(params) = config.surface {
+        for object in &mut objects {
+            let mut seconds = 0.0;
+            let surface = timed(&mut seconds, || {
+                fuse_surface(object, ep.rig.camera.spec(), params, config)
+            });
+            object.times.meshing += seconds;
+            object.surface = surface?;
+        }
+    }
     Ok(Exploration {
         mode: config.mode,
         phase_one: phase_report,

@@ -106,6 +106,9 @@ pub struct ExploreConfig {
     /// Takes the table out of each short-range view before it joins the object's model
     /// (the noise model of the camera); `None` keeps every point above the region's floor.
     pub table_filter: Option<crate::perception::TableFilter>,
+    /// The fused surface of each object's registered camera views
+    /// ([`TsdfVolume`](crate::surface::TsdfVolume)); `None` makes none.
+    pub surface: Option<crate::surface::TsdfParams>,
     /// Seed of every random choice the pipeline makes (the planner's samples).
     pub seed: u64,
 }

@@ -36,4 +36,7 @@ pub enum PipelineError {
     /// A view's data could not be prepared for the registration.
     #[error("registration input: {0}")]
     Registration(#[from] RegistrationError),
+    /// The views could not be fused into a surface.
+    #[error("surface: {0}")]
+    Surface(#[from] crate::surface::SurfaceError),
 }

@@ -28,6 +28,8 @@ pub struct StepTimes {
     pub planning: f64,
     /// Registration (both methods).
     pub registration: f64,
+    /// The fused surface: integration and extraction.
+    pub meshing: f64,
 }
 
 impl StepTimes {
@@ -40,6 +42,7 @@ impl StepTimes {
             + self.nbv
             + self.planning
             + self.registration
+            + self.meshing
     }
 
     /// Adds `other` step by step.
@@ -51,6 +54,7 @@ impl StepTimes {
         self.nbv += other.nbv;
         self.planning += other.planning;
         self.registration += other.registration;
+        self.meshing += other.meshing;
     }
 }
 
@@ -244,6 +248,9 @@ pub struct ObjectExploration {
     pub registration: Option<ObjectRegistration>,
     /// Why registration failed, if it did.
     pub registration_error: Option<String>,
+    /// The fused surface of its registered camera views (`None` without a camera view,
+    /// or when the scene's `[model] mesh` is off).
+    pub surface: Option<crate::surface::SurfaceMesh>,
     /// Times.
     pub times: StepTimes,
 }
@@ -253,6 +260,33 @@ impl ObjectExploration {
     /// registration view `k ≥ 1` is the `k`-th of them (view 0 is the cluster).
     pub fn registered_views(&self) -> impl Iterator<Item = &AcquiredView> {
         self.views.iter().filter(|v| !v.cloud.is_empty())
+    }
+
+    /// The object's camera views as depth images of its points, each at its registered
+    /// camera pose (the MAP registration's, where it was accepted; else as reported), in
+    /// the order of [`registered_views`](Self::registered_views).
+    pub fn depth_views(
+        &self,
+        intrinsics: crate::surface::PinholeIntrinsics,
+    ) -> Vec<crate::surface::DepthView> {
+        let poses = self
+            .registration
+            .as_ref()
+            .filter(|r| r.map_accepted && r.map.poses.len() == r.points.len());
+        self.registered_views()
+            .enumerate()
+            .map(|(k, v)| {
+                let mut view = crate::surface::DepthView::from_points(
+                    intrinsics,
+                    v.sensor_pose,
+                    &v.cloud.points,
+                );
+                if let Some(r) = poses {
+                    view.pose = r.map.poses[k + 1] * v.sensor_pose;
+                }
+                view
+            })
+            .collect()
     }
 
     /// The object's model: its views merged through the MAP registration's poses, with a
@@ -367,6 +401,7 @@ mod tests {
                 icp_accepted: false,
             }),
             registration_error: None,
+            surface: None,
             times: StepTimes::default(),
         }
     }

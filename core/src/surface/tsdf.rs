@@ -1,0 +1,255 @@
+//! [`TsdfVolume`]: projective truncated-signed-distance fusion (Curless & Levoy 1996;
+//! KinectFusion, Newcombe et al. 2011) in sparse blocks that follow the observed surface.
+//!
+//! For each depth view, the blocks within the truncation distance of its returns are
+//! allocated; every voxel of those blocks is projected into the image, and the pixel it
+//! falls on gives the signed distance along that pixel's ray, `sdf = (d − z)·|ray|`
+//! (positive in front of the surface). Voxels more than the truncation behind the surface
+//! are left alone (the inside stays unobserved); the others take `min(1, sdf/μ)` into a
+//! weighted mean. The weight is the inverse variance of the return, `(σ_ref/σ(d))²` with
+//! the camera's noise model σ(d) (Nguyen et al. 2012's reading of the KinectFusion weight),
+//! and it tapers linearly to 0 from one voxel behind the surface to the truncation
+//! (voxblox's drop-off, Oleynikova et al. 2017), so a noisy return does not pull the zero
+//! crossing of surface behind it.
+//!
+//! Deterministic: every voxel's update depends on the view and its own state only, so the
+//! blocks are updated in parallel in any order.
+
+use std::collections::HashMap;
+
+use nalgebra::{Point3, Vector3};
+use rayon::prelude::*;
+
+use super::{DepthView, SurfaceError};
+
+/// Voxels per block edge.
+pub(super) const BLOCK: i32 = 8;
+const BLOCK_VOXELS: usize = (BLOCK * BLOCK * BLOCK) as usize;
+
+/// The fusion's parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TsdfParams {
+    /// Voxel edge (m).
+    pub voxel: f64,
+    /// Truncation distance μ (m): how far in front of and behind a return a voxel is
+    /// updated.
+    pub truncation: f64,
+    /// Observations a voxel needs for the mesh to pass through it.
+    pub min_observations: u16,
+}
+
+impl Default for TsdfParams {
+    /// 2 mm voxels, 8 mm truncation, one observation.
+    fn default() -> Self {
+        Self {
+            voxel: 0.002,
+            truncation: 0.008,
+            min_observations: 1,
+        }
+    }
+}
+
+impl TsdfParams {
+    /// Checks the numbers: a positive finite voxel, a truncation of at least two voxels.
+    pub fn validate(&self) -> Result<(), SurfaceError> {
+        let bad = |key: &'static str, value: f64, why: &'static str| {
+            Err(SurfaceError::Parameter { key, value, why })
+        };
+        if !(self.voxel.is_finite() && self.voxel > 0.0) {
+            return bad("voxel", self.voxel, "must be a positive length (m)");
+        }
+        if !(self.truncation.is_finite() && self.truncation >= 2.0 * self.voxel) {
+            return bad("truncation", self.truncation, "must be at least two voxels");
+        }
+        if self.min_observations == 0 {
+            return bad("min_observations", 0.0, "must be at least 1");
+        }
+        Ok(())
+    }
+}
+
+/// One block's voxels, x fastest.
+#[derive(Debug, Clone)]
+pub(super) struct Block {
+    /// Truncated signed distance / μ, in [−1, 1].
+    pub tsdf: [f32; BLOCK_VOXELS],
+    /// Sum of the observations' weights.
+    pub weight: [f32; BLOCK_VOXELS],
+    /// Number of observations.
+    pub count: [u16; BLOCK_VOXELS],
+}
+
+impl Default for Block {
+    fn default() -> Self {
+        Self {
+            tsdf: [1.0; BLOCK_VOXELS],
+            weight: [0.0; BLOCK_VOXELS],
+            count: [0; BLOCK_VOXELS],
+        }
+    }
+}
+
+/// A sparse TSDF volume: voxel `i` (integer coordinates) has its centre at `i·voxel`.
+///
+/// ```
+/// use nbv_core::rig::DepthCameraSpec;
+/// use nbv_core::surface::{DepthView, PinholeIntrinsics, TsdfParams, TsdfVolume};
+/// use nalgebra::Isometry3;
+/// // A wall 0.4 m in front of a camera at the origin looking along +z.
+/// let k = PinholeIntrinsics::of_camera(&DepthCameraSpec::ipa1110());
+/// let view = DepthView { intrinsics: k, depth: vec![0.4; 320 * 240], pose: Isometry3::identity() };
+/// let mut volume = TsdfVolume::new(TsdfParams::default()).unwrap();
+/// volume.integrate(&view, |_| 0.002).unwrap();
+/// let surface = volume.extract_mesh();
+/// assert!(surface.mesh.triangles.len() > 1000);
+/// assert!(surface.mesh.vertices.iter().all(|p| (p.z - 0.4).abs() < 1e-3));
+/// ```
+#[derive(Debug, Clone)]
+pub struct TsdfVolume {
+    params: TsdfParams,
+    index: HashMap<[i32; 3], usize>,
+    pub(super) keys: Vec<[i32; 3]>,
+    pub(super) blocks: Vec<Block>,
+}
+
+impl TsdfVolume {
+    /// An empty volume; an error for parameters [`TsdfParams::validate`] refuses.
+    pub fn new(params: TsdfParams) -> Result<Self, SurfaceError> {
+        params.validate()?;
+        Ok(Self {
+            params,
+            index: HashMap::new(),
+            keys: Vec::new(),
+            blocks: Vec::new(),
+        })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &TsdfParams {
+        &self.params
+    }
+
+    /// Allocated blocks (8³ voxels each).
+    pub fn blocks(&self) -> usize {
+        self.blocks.len()
+    }
+
+    /// Fuses one view; `sigma(d)` is the return's noise (m) at depth `d` (its inverse
+    /// square weighs the observation). An error when the view's image does not match its
+    /// intrinsics.
+    pub fn integrate(
+        &mut self,
+        view: &DepthView,
+        sigma: impl Fn(f64) -> f64 + Sync,
+    ) -> Result<(), SurfaceError> {
+        let k = view.intrinsics;
+        if !k.is_valid() || view.depth.len() != k.width * k.height {
+            return Err(SurfaceError::ImageSize {
+                pixels: view.depth.len(),
+                width: k.width,
+                height: k.height,
+            });
+        }
+        let touched = self.allocate_around(view);
+        let mut mask = vec![false; self.blocks.len()];
+        touched.iter().for_each(|&b| mask[b] = true);
+        let (voxel, mu) = (self.params.voxel, self.params.truncation);
+        let to_camera = view.pose.inverse();
+        let sigma_ref = sigma(0.5).max(1e-9);
+        let keys = &self.keys;
+        self.blocks
+            .par_iter_mut()
+            .enumerate()
+            .filter(|(b, _)| mask[*b])
+            .for_each(|(b, block)| {
+                let base = Vector3::new(keys[b][0], keys[b][1], keys[b][2]) * BLOCK;
+                for (i, ((t, w), n)) in block
+                    .tsdf
+                    .iter_mut()
+                    .zip(block.weight.iter_mut())
+                    .zip(block.count.iter_mut())
+                    .enumerate()
+                {
+                    let local = local_coords(i);
+                    let centre = (base + local).cast::<f64>() * voxel;
+                    let c = to_camera * Point3::from(centre);
+                    let Some((u, v)) = k.pixel_of(&c) else {
+                        continue;
+                    };
+                    let Some(d) = view.depth_at(u, v) else {
+                        continue;
+                    };
+                    let d = f64::from(d);
+                    let sdf = (d - c.z) * c.coords.norm() / c.z;
+                    if sdf < -mu {
+                        continue;
+                    }
+                    let s = sigma(d).max(1e-9);
+                    let mut weight = (sigma_ref / s).powi(2);
+                    if sdf < -voxel {
+                        weight *= (mu + sdf) / (mu - voxel);
+                    }
+                    if weight <= 0.0 {
+                        continue;
+                    }
+                    let value = (sdf / mu).min(1.0) as f32;
+                    let total = *w + weight as f32;
+                    *t = (*t * *w + value * weight as f32) / total;
+                    *w = total;
+                    *n = n.saturating_add(1);
+                }
+            });
+        Ok(())
+    }
+
+    /// Allocates the blocks within the truncation of every return of `view` and returns
+    /// their indices, ascending.
+    fn allocate_around(&mut self, view: &DepthView) -> Vec<usize> {
+        let edge = self.params.voxel * f64::from(BLOCK);
+        let mu = self.params.truncation;
+        let mut wanted: Vec<[i32; 3]> = Vec::new();
+        for p in view.points() {
+            let lo = (p.coords.add_scalar(-mu - 0.5 * self.params.voxel) / edge).map(f64::floor);
+            let hi = (p.coords.add_scalar(mu + 0.5 * self.params.voxel) / edge).map(f64::floor);
+            for x in lo.x as i32..=hi.x as i32 {
+                for y in lo.y as i32..=hi.y as i32 {
+                    for z in lo.z as i32..=hi.z as i32 {
+                        wanted.push([x, y, z]);
+                    }
+                }
+            }
+        }
+        wanted.sort_unstable();
+        wanted.dedup();
+        let mut touched: Vec<usize> = wanted
+            .into_iter()
+            .map(|key| {
+                *self.index.entry(key).or_insert_with(|| {
+                    self.keys.push(key);
+                    self.blocks.push(Block::default());
+                    self.blocks.len() - 1
+                })
+            })
+            .collect();
+        touched.sort_unstable();
+        touched
+    }
+
+    /// The voxel index range `(min, max)` (inclusive) of the allocated blocks, if any.
+    pub(super) fn voxel_bounds(&self) -> Option<([i32; 3], [i32; 3])> {
+        let first = *self.keys.first()?;
+        let (lo, hi) = self.keys.iter().fold((first, first), |(lo, hi), k| {
+            (
+                [lo[0].min(k[0]), lo[1].min(k[1]), lo[2].min(k[2])],
+                [hi[0].max(k[0]), hi[1].max(k[1]), hi[2].max(k[2])],
+            )
+        });
+        Some((lo.map(|c| c * BLOCK), hi.map(|c| c * BLOCK + BLOCK - 1)))
+    }
+}
+
+/// Voxel `i` of a block (x fastest) as coordinates within it.
+pub(super) fn local_coords(i: usize) -> Vector3<i32> {
+    let i = i as i32;
+    Vector3::new(i % BLOCK, (i / BLOCK) % BLOCK, i / (BLOCK * BLOCK))
+}
