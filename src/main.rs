@@ -29,6 +29,9 @@ enum Command {
     /// Register views (PLY/PCD) globally by p-ICP-GPA or sequential ICP; write the poses
     /// and the merged model.
     Register(cli::register::RegisterArgs),
+    /// Fuse depth views in Open3D's layout (an episode's objects/<name>/rgbd/, or another
+    /// dataset) into a surface mesh; score a mesh against a true one.
+    Fuse(cli::fuse::FuseArgs),
     /// Phase 1 in the twin, then each object's sorted next-best-view candidates: |O_v|,
     /// score, reachable, planned, collision in truth.
     Views(cli::views::ViewsArgs),
@@ -77,6 +80,7 @@ fn main() -> std::process::ExitCode {
         Command::Map(args) => cli::map::run(args).map(|()| std::process::ExitCode::SUCCESS),
         Command::Render(args) => cli::render::run(args).map(|()| std::process::ExitCode::SUCCESS),
         Command::Register(args) => cli::register::run(args),
+        Command::Fuse(args) => cli::fuse::run(args).map(|()| std::process::ExitCode::SUCCESS),
         Command::Views(args) => cli::views::run(args).map(|()| std::process::ExitCode::SUCCESS),
         Command::Oracle(args) => cli::oracle::run(args).map(|()| std::process::ExitCode::SUCCESS),
         Command::Sweep(args) => cli::sweep::run(args),

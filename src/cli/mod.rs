@@ -2,6 +2,7 @@
 
 pub mod explore;
 pub mod explore_summary;
+pub mod fuse;
 #[cfg(feature = "hw")]
 pub mod hw_backend;
 pub mod map;

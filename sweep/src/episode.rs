@@ -9,6 +9,7 @@
 //! OUT/objects/<name>/model.ply   the registered model; views/view_NN.ply each view
 //! OUT/objects/<name>/model_mesh.ply  the fused surface (triangles, normals, world frame)
 //! OUT/objects/<name>/rgbd/       its registered camera views in Open3D's layout
+//! OUT/objects/<name>/truth.stl   the true object, world frame (the twin's ground truth)
 //! OUT/*.png                      the pictures, when asked ([`crate::pictures`])
 //! OUT/oracle.json                the ground-truth ceiling, when asked ([`crate::oracle`]),
 //! OUT/coverage_by_view.svg       and each object's coverage by view beside it
@@ -18,7 +19,7 @@
 use crate::error::{Context, Result, bail};
 use crate::report::{ExploreReport, evaluate};
 use nbv_core::cloud::io::{WriteOptions, write_cloud};
-use nbv_core::mesh::io::write_ply_mesh;
+use nbv_core::mesh::io::{write_ply_mesh, write_stl_file};
 use nbv_core::pipeline::{Exploration, ExploreConfig, ExploreMode, ExploreObserver, object_views};
 use nbv_sim::rig::SimRig;
 use std::path::Path;
@@ -193,6 +194,7 @@ fn write_outputs(
     )?;
     write_grid(&out.join("map/grid.nbvgrid"), &exploration.phase_one.grid)?;
     write_grid(&out.join("map/final.nbvgrid"), &exploration.grid)?;
+    let truths = scene.object_meshes()?;
     for (object, entry) in exploration.objects.iter().zip(&report.objects) {
         let dir = out.join("objects").join(&entry.name);
         std::fs::create_dir_all(dir.join("views"))
@@ -201,6 +203,11 @@ fn write_outputs(
         if let Some(surface) = &object.surface {
             let path = dir.join("model_mesh.ply");
             write_ply_mesh(&surface.mesh, &surface.normals, &path)
+                .with_context(|| format!("writing {}", path.display()))?;
+        }
+        if let Some(i) = scene.objects.iter().position(|o| o.name == entry.name) {
+            let path = dir.join("truth.stl");
+            write_stl_file(&truths[i], &path)
                 .with_context(|| format!("writing {}", path.display()))?;
         }
         if let Some(views) = object_views(object, &scene.sensors.short_range.spec(), config) {

@@ -15,7 +15,7 @@ pub struct Model {
     pub mesh: bool,
     /// TSDF voxel edge (m). Default 0.002.
     pub voxel: f64,
-    /// TSDF truncation distance (m), at least two voxels. Default 0.008.
+    /// TSDF truncation distance (m), at least two voxels. Default 0.016 (measured: docs/surface.md).
     pub truncation: f64,
     /// Observations a voxel needs for the mesh to pass through it. Default 1.
     pub min_observations: u32,
