@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Open3D's TSDF fusion (tensor VoxelBlockGrid) beside `nbv fuse` on the same exported views of
+# each object, both meshes scored by the same code (see open3d_tsdf.py).
+#
+#   benches/peers/open3d_tsdf.sh RUN_DIR... [-- extra options of the .py]
+#
+# RUN_DIR: an `nbv explore` output (objects/<name>/rgbd/ and truth.stl). Creates its own
+# virtual environment (target/peers-venv, or $NBV_PEERS_VENV) with Open3D from PyPI, as
+# open3d_registration.sh does, and builds `nbv` in release mode.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+venv=${NBV_PEERS_VENV:-$root/target/peers-venv}
+runs=()
+while [ $# -gt 0 ] && [ "$1" != "--" ]; do runs+=("$1"); shift; done
+[ "${1:-}" = "--" ] && shift
+
+if ! "$venv/bin/python" -c 'import open3d' 2>/dev/null; then
+    python3 -m venv "$venv"
+    "$venv/bin/pip" install --quiet --upgrade pip
+    "$venv/bin/pip" install --quiet open3d-cpu || "$venv/bin/pip" install --quiet open3d
+fi
+cd "$root"
+cargo build --release --quiet --bin nbv
+exec "$venv/bin/python" "$root/benches/peers/open3d_tsdf.py" "${runs[@]}" \
+    --nbv "$root/target/release/nbv" "$@"
