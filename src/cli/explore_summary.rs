@@ -69,7 +69,7 @@ fn object_line(o: &ObjectEntry) -> String {
         pct(q.map(|q| q.precision)),
         pct(q.map(|q| q.completeness)),
         q.map_or("-".to_string(), |q| format!("{:.1} mm", q.chamfer * 1e3)),
-        pct(o.mesh_quality.as_ref().map(|m| m.f_score[1])),
+        pct(o.mesh_quality.as_ref().map(|m| m.scores.f_score[1])),
         pct(o.quality_unregistered.map(|q| q.f_score)),
         o.views.len(),
         o.viewpoints_failed.len(),

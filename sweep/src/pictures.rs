@@ -1,6 +1,7 @@
 //! The pictures of `nbv explore`: the scene, the map after phase 1 from the front and the
 //! back framed on the objects, with the unknown crust around them (Figures 7–8), each object's view sequence (Figure 9) and its model before and after
-//! registration coloured by view (Figure 11). Pictures only add to the run: without a GPU
+//! registration coloured by view (Figure 11), and its fused surface shaded (`model_mesh.png`, the
+//! same framing). Pictures only add to the run: without a GPU
 //! adapter, or if drawing fails, a warning is printed and the run goes on.
 
 use crate::error::{Context, Result};
@@ -11,9 +12,9 @@ use nbv_core::occupancy::ReducedMap;
 use nbv_core::pipeline::Exploration;
 use nbv_scenes::Scene;
 use nbv_sim::render::{
-    BACK_AZIMUTH, Camera, CloudColoring, Color, FRONT_AZIMUTH, LineSet, PointSet, RenderScene,
-    Renderer, UnknownVoxels, fitted_front_and_back, front_and_back, map_items, map_items_around,
-    save_png, scene_items,
+    BACK_AZIMUTH, Camera, CloudColoring, Color, FRONT_AZIMUTH, LineSet, MeshItem, PointSet,
+    RenderScene, Renderer, UnknownVoxels, fitted_front_and_back, front_and_back, map_items,
+    map_items_around, save_png, scene_items,
 };
 use std::path::Path;
 
@@ -120,6 +121,16 @@ fn draw_all(
         let camera = Camera::fit(&before.points, std::f64::consts::PI, 0.4, aspect);
         draw_cloud(renderer, &before, &camera, &dir.join("model_before.png"))?;
         draw_cloud(renderer, &after, &camera, &dir.join("model_after.png"))?;
+        // The fused surface, shaded, from the same camera.
+        if let Some(surface) = &object.surface {
+            let mut items = RenderScene::new();
+            items.add_mesh(MeshItem::smooth(
+                surface.mesh.clone(),
+                nalgebra::Isometry3::identity(),
+                Color::categorical(0),
+            ));
+            draw(renderer, &items, &camera, &dir.join("model_mesh.png"))?;
+        }
     }
     Ok(())
 }

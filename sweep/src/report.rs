@@ -5,8 +5,8 @@ use crate::error::Result;
 use crate::matching::{cluster_truth, true_object};
 use nbv_core::cloud::PointCloud;
 use nbv_core::evaluation::{
-    MeshQuality, ModelQuality, alignment_error, mesh_quality, model_quality, point_error,
-    quality_samples, surface_coverage, surface_coverage_curve,
+    MeshQuality, ModelQuality, ToleranceScores, alignment_error, mesh_quality, model_quality,
+    point_error, quality_samples, surface_coverage, surface_coverage_curve, tolerance_scores,
 };
 use nbv_core::math::Pose;
 use nbv_core::mesh::TriMesh;
@@ -156,6 +156,9 @@ pub struct ObjectEntry {
     /// The same for the views as acquired (no registration): how far the rig's pose error
     /// alone leaves the model.
     pub quality_unregistered: Option<ModelQuality>,
+    /// The model's points against the true surface at 2, 5 and 10 mm (beside `quality`'s
+    /// 1 cm; [`nbv_core::evaluation::tolerance_scores`]).
+    pub quality_fine: Option<ToleranceScores>,
     /// The fused surface (`model_mesh.ply`) against the true surface at 2, 5 and 10 mm
     /// ([`nbv_core::evaluation::mesh_quality`]); `None` without a mesh or a true object.
     pub mesh_quality: Option<MeshQuality>,
@@ -601,6 +604,7 @@ fn object_entry(
         quality: surface.quality(&model),
         quality_mid_range: surface.quality(&object.cluster),
         quality_unregistered: surface.quality(&unregistered),
+        quality_fine: surface.quality_fine(&model),
         mesh_quality: object
             .surface
             .as_ref()
@@ -656,6 +660,12 @@ impl TrueSurface<'_> {
                 self.scene.seed,
             )
         })
+    }
+
+    /// The quality of a point model at 2, 5 and 10 mm ([`tolerance_scores`]).
+    fn quality_fine(&self, cloud: &PointCloud) -> Option<ToleranceScores> {
+        self.mesh
+            .and_then(|mesh| tolerance_scores(mesh, &cloud.points, self.floor(), self.scene.seed))
     }
 
     /// The quality of a reconstructed surface mesh ([`mesh_quality`]).

@@ -63,6 +63,16 @@ pub struct EpisodeRow {
     /// Mean Chamfer distance of the models to the true surfaces (m).
     #[serde(default)]
     pub chamfer: f64,
+    /// Mean F-score at 2 mm of the fused surfaces (`model_mesh.ply`) over the matched
+    /// objects with one (0 without).
+    #[serde(default)]
+    pub mesh_f_score_2mm: f64,
+    /// The same at 5 mm.
+    #[serde(default)]
+    pub mesh_f_score_5mm: f64,
+    /// Mean Chamfer distance of the fused surfaces (m).
+    #[serde(default)]
+    pub mesh_chamfer: f64,
     /// Mean surface coverage over the matched objects (the model).
     pub coverage: f64,
     /// Smallest object coverage.
@@ -272,6 +282,15 @@ impl EpisodeRow {
             f_score_min: f_scores.iter().copied().reduce(f64::min).unwrap_or(0.0),
             f_score_unregistered: mean(&quality(&|o| o.quality_unregistered.map(|q| q.f_score))),
             chamfer: mean(&quality(&|o| o.quality.map(|q| q.chamfer))),
+            mesh_f_score_2mm: mean(&quality(&|o| {
+                o.mesh_quality.as_ref().map(|m| m.scores.f_score[0])
+            })),
+            mesh_f_score_5mm: mean(&quality(&|o| {
+                o.mesh_quality.as_ref().map(|m| m.scores.f_score[1])
+            })),
+            mesh_chamfer: mean(&quality(&|o| {
+                o.mesh_quality.as_ref().map(|m| m.scores.chamfer)
+            })),
             coverage,
             coverage_min: cov.iter().copied().fold(f64::INFINITY, f64::min).min(1.0),
             precision: mean(&quality(&|o| o.quality.map(|q| q.precision))),
@@ -363,7 +382,7 @@ pub fn mean_curve<'a>(curves: impl IntoIterator<Item = &'a [f64]>) -> Vec<f64> {
 }
 
 /// The CSV columns after the parameters (`time_s` last).
-const METRICS: [&str; 35] = [
+const METRICS: [&str; 38] = [
     "objects",
     "missed",
     "split",
@@ -377,6 +396,9 @@ const METRICS: [&str; 35] = [
     "f_score_min",
     "f_score_unregistered",
     "chamfer",
+    "mesh_f_score_2mm",
+    "mesh_f_score_5mm",
+    "mesh_chamfer",
     "precision",
     "coverage",
     "coverage_min",
@@ -435,6 +457,9 @@ pub fn csv_text(rows: &[EpisodeRow]) -> Result<String> {
             format!("{:.6}", r.f_score_min),
             format!("{:.6}", r.f_score_unregistered),
             format!("{:.6}", r.chamfer),
+            format!("{:.6}", r.mesh_f_score_2mm),
+            format!("{:.6}", r.mesh_f_score_5mm),
+            format!("{:.6}", r.mesh_chamfer),
             format!("{:.6}", r.precision),
             format!("{:.6}", r.coverage),
             format!("{:.6}", r.coverage_min),
@@ -475,6 +500,8 @@ pub struct Aggregate {
     pub f_score_mean: f64,
     /// Mean of the per-episode mean F-scores of the views as acquired.
     pub f_score_unregistered_mean: f64,
+    /// Mean of the per-episode mean F-scores of the fused surfaces at 5 mm.
+    pub mesh_f_score_5mm_mean: f64,
     /// Smallest per-episode mean coverage.
     pub coverage: f64,
     /// Mean of the per-episode mean coverages.
@@ -536,6 +563,9 @@ impl Aggregate {
                     .map(|r| r.f_score_unregistered)
                     .collect::<Vec<_>>(),
             ),
+            mesh_f_score_5mm_mean: mean(
+                &rows.iter().map(|r| r.mesh_f_score_5mm).collect::<Vec<_>>(),
+            ),
             // No episode covers nothing: a gate on coverage then fails.
             coverage: if cov.is_empty() {
                 0.0
@@ -593,6 +623,7 @@ impl Aggregate {
             "f_score" => self.f_score,
             "f_score_mean" => self.f_score_mean,
             "f_score_unregistered_mean" => self.f_score_unregistered_mean,
+            "mesh_f_score_5mm_mean" => self.mesh_f_score_5mm_mean,
             "coverage" => self.coverage,
             "coverage_mean" => self.coverage_mean,
             "collisions" => self.collisions as f64,
@@ -617,10 +648,11 @@ impl Aggregate {
     }
 
     /// The names [`metric`](Self::metric) knows.
-    pub const METRICS: [&'static str; 21] = [
+    pub const METRICS: [&'static str; 22] = [
         "f_score",
         "f_score_mean",
         "f_score_unregistered_mean",
+        "mesh_f_score_5mm_mean",
         "coverage",
         "coverage_mean",
         "collisions",
@@ -865,6 +897,9 @@ pub(crate) mod tests {
             f_score_min: coverage - 0.1,
             f_score_unregistered: coverage - 0.2,
             chamfer: 0.004,
+            mesh_f_score_2mm: 0.7,
+            mesh_f_score_5mm: 0.9,
+            mesh_chamfer: 0.002,
             coverage,
             coverage_min: coverage,
             precision: 0.9,
@@ -968,7 +1003,7 @@ pub(crate) mod tests {
         let csv = csv_text(&rows).unwrap();
         assert!(csv.starts_with(
             "index,id,scene,mode,seed,nbv.alpha_u,objects,missed,split,phantoms,dropped,level,\
-             views,failed_viewpoints,collisions,f_score,f_score_min,f_score_unregistered,chamfer,precision,coverage,"
+             views,failed_viewpoints,collisions,f_score,f_score_min,f_score_unregistered,chamfer,mesh_f_score_2mm,mesh_f_score_5mm,mesh_chamfer,precision,coverage,"
         ));
         assert_eq!(csv.lines().count(), 4);
         // One level: three objects, F per object as acquired (0.6, 0.4, 0.7), model

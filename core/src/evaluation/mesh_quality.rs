@@ -18,12 +18,13 @@ pub const MESH_TOLERANCES: [f64; 3] = [0.002, 0.005, 0.01];
 /// tolerance).
 const SAMPLES_PER_M2: f64 = 1.0 / (0.0005 * 0.0005);
 
-/// The result of [`mesh_quality`]; shares in `[0, 1]`, one per [`MESH_TOLERANCES`].
+/// Precision, completeness and F-score at each of [`MESH_TOLERANCES`], and the Chamfer
+/// distance, of points standing for a reconstruction; shares in `[0, 1]`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct MeshQuality {
+pub struct ToleranceScores {
     /// The tolerances (m).
     pub tolerances: [f64; 3],
-    /// Share of the reconstruction's surface within each tolerance of the truth.
+    /// Share of the reconstruction within each tolerance of the truth.
     pub precision: [f64; 3],
     /// Share of the true surface above the floor within each tolerance of the
     /// reconstruction.
@@ -32,6 +33,14 @@ pub struct MeshQuality {
     pub f_score: [f64; 3],
     /// Mean of the two directed mean distances (m).
     pub chamfer: f64,
+}
+
+/// The result of [`mesh_quality`].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MeshQuality {
+    /// The scores of the mesh's surface.
+    #[serde(flatten)]
+    pub scores: ToleranceScores,
     /// Triangles.
     pub triangles: usize,
     /// Edges of one triangle only (the rims of holes and of the open base).
@@ -42,33 +51,37 @@ pub struct MeshQuality {
     pub watertight: bool,
 }
 
-/// `mesh` against the true `surface` (both in the world frame); the true surface counts
-/// above `floor` (z) for completeness. Seeded; `None` for an empty mesh or a truth with
-/// nothing above the floor.
+/// Samples of `mesh`, 0.5 mm apart.
+fn dense_samples(mesh: &TriMesh, seed: u64) -> Vec<Point3<f64>> {
+    let n = ((mesh.area() * SAMPLES_PER_M2).round() as usize).clamp(1_000, 2_000_000);
+    sample_surface(mesh, n, seed)
+}
+
+/// `points` (a reconstruction: a point model, or a mesh's samples; world frame) against
+/// the true `surface` at [`MESH_TOLERANCES`], the true surface sampled 0.5 mm apart and
+/// counted above `floor` (z) for completeness. `None` without a finite point or a truth
+/// above the floor.
 ///
 /// ```
-/// use nbv_core::evaluation::mesh_quality;
+/// use nbv_core::evaluation::{sample_surface, tolerance_scores};
 /// use nbv_core::mesh::TriMesh;
 /// let cube = TriMesh::cuboid([0.05; 3]);
-/// let q = mesh_quality(&cube, &cube, f64::MIN, 1).unwrap();
-/// assert!(q.f_score.iter().all(|f| *f > 0.99));
-/// assert!(q.chamfer < 3e-4);
-/// assert!(q.watertight);
+/// let s = tolerance_scores(&cube, &sample_surface(&cube, 100_000, 9), f64::MIN, 1).unwrap();
+/// assert!(s.f_score[0] > 0.99);
 /// ```
-pub fn mesh_quality(
+pub fn tolerance_scores(
     surface: &TriMesh,
-    mesh: &TriMesh,
+    points: &[Point3<f64>],
     floor: f64,
     seed: u64,
-) -> Option<MeshQuality> {
-    let count =
-        |m: &TriMesh| ((m.area() * SAMPLES_PER_M2).round() as usize).clamp(1_000, 2_000_000);
-    if mesh.triangles.is_empty() {
-        return None;
-    }
-    let truth = sample_surface(surface, count(surface), seed);
+) -> Option<ToleranceScores> {
+    let truth = dense_samples(surface, seed);
     let above: Vec<Point3<f64>> = truth.iter().filter(|p| p.z > floor).copied().collect();
-    let ours = sample_surface(mesh, count(mesh), seed ^ 0x5eed);
+    let ours: Vec<Point3<f64>> = points
+        .iter()
+        .filter(|p| p.iter().all(|c| c.is_finite()))
+        .copied()
+        .collect();
     if above.is_empty() || ours.is_empty() {
         return None;
     }
@@ -78,13 +91,41 @@ pub fn mesh_quality(
     let mean = |d: &[f64]| d.iter().sum::<f64>() / d.len() as f64;
     let precision = MESH_TOLERANCES.map(|t| share(&to_truth, t));
     let completeness = MESH_TOLERANCES.map(|t| share(&to_ours, t));
-    let (boundary_edges, non_manifold_edges) = mesh.edge_counts();
-    Some(MeshQuality {
+    Some(ToleranceScores {
         tolerances: MESH_TOLERANCES,
         precision,
         completeness,
         f_score: [0, 1, 2].map(|k| f_score(precision[k], completeness[k])),
         chamfer: 0.5 * (mean(&to_truth) + mean(&to_ours)),
+    })
+}
+
+/// `mesh` against the true `surface` (both in the world frame): the mesh sampled 0.5 mm
+/// apart and scored by [`tolerance_scores`], and its topology. Seeded; `None` for an
+/// empty mesh or a truth with nothing above the floor.
+///
+/// ```
+/// use nbv_core::evaluation::mesh_quality;
+/// use nbv_core::mesh::TriMesh;
+/// let cube = TriMesh::cuboid([0.05; 3]);
+/// let q = mesh_quality(&cube, &cube, f64::MIN, 1).unwrap();
+/// assert!(q.scores.f_score.iter().all(|f| *f > 0.99));
+/// assert!(q.scores.chamfer < 3e-4);
+/// assert!(q.watertight);
+/// ```
+pub fn mesh_quality(
+    surface: &TriMesh,
+    mesh: &TriMesh,
+    floor: f64,
+    seed: u64,
+) -> Option<MeshQuality> {
+    if mesh.triangles.is_empty() {
+        return None;
+    }
+    let scores = tolerance_scores(surface, &dense_samples(mesh, seed ^ 0x5eed), floor, seed)?;
+    let (boundary_edges, non_manifold_edges) = mesh.edge_counts();
+    Some(MeshQuality {
+        scores,
         triangles: mesh.triangles.len(),
         boundary_edges,
         non_manifold_edges,
@@ -109,7 +150,7 @@ mod tests {
     fn a_shifted_cube_by_hand() {
         let cube = TriMesh::cuboid([0.05; 3]);
         let moved = cube.transformed(&Isometry3::translation(0.003, 0.0, 0.0));
-        let q = mesh_quality(&cube, &moved, f64::MIN, 3).unwrap();
+        let q = mesh_quality(&cube, &moved, f64::MIN, 3).unwrap().scores;
         assert!((q.precision[0] - 0.673).abs() < 0.01, "{q:?}");
         assert!((q.completeness[0] - 0.673).abs() < 0.01, "{q:?}");
         assert!(q.f_score[1] > 0.995 && q.f_score[2] > 0.995, "{q:?}");

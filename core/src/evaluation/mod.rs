@@ -14,7 +14,9 @@ mod point_error;
 mod surface_coverage;
 
 pub use alignment_error::alignment_error;
-pub use mesh_quality::{MESH_TOLERANCES, MeshQuality, mesh_quality};
+pub use mesh_quality::{
+    MESH_TOLERANCES, MeshQuality, ToleranceScores, mesh_quality, tolerance_scores,
+};
 pub use model_precision::model_precision;
 pub use model_quality::{ModelQuality, f_score, model_quality, quality_samples};
 pub use point_error::{PointError, point_error};

@@ -44,7 +44,7 @@ pub fn view(j: usize, k: usize) -> String {
     format!("world/objects/{j}/views/view_{k:02}")
 }
 
-/// Object `j`'s model, `before` or `after` registration.
+/// Object `j`'s model, `before` or `after` registration, or its fused surface (`mesh`).
 pub fn model(j: usize, which: &str) -> String {
     format!("world/models/{j}/{which}")
 }

@@ -121,8 +121,8 @@ impl EpisodeRecorder {
         }
     }
 
-    /// Logs the report's coverage of each object after each view (the views as acquired)
-    /// and its summary, then closes the file and moves it to `episode.rrd`. Returns its
+    /// Logs the report's coverage of each object after each view (the views as acquired),
+    /// each object's fused surface (`world/models/<j>/mesh`) and the report's summary, then closes the file and moves it to `episode.rrd`. Returns its
     /// path.
     pub fn finish(
         mut self,
@@ -159,6 +159,21 @@ impl EpisodeRecorder {
         }
         self.step += 1;
         self.set_time();
+        // Each object's fused surface beside its point model.
+        for object in &exploration.objects {
+            if let Some(surface) = &object.surface {
+                let m = &surface.mesh;
+                self.rec
+                    .log(
+                        entity::model(object.index, "mesh"),
+                        &rerun::Mesh3D::new(m.vertices.iter().map(|p| f32x3(p.coords)))
+                            .with_vertex_normals(surface.normals.iter().map(|n| f32x3(*n)))
+                            .with_triangle_indices(m.triangles.iter().copied())
+                            .with_albedo_factor(categorical(0)),
+                    )
+                    .context("logging a fused surface")?;
+            }
+        }
         self.rec
             .log(
                 "report",
