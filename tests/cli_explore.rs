@@ -134,6 +134,43 @@ fn hybrid_explores_the_object_and_beats_the_laser_alone() {
         );
     }
 
+    // The fused surface: a mesh near the truth, its views in Open3D's layout, and `nbv fuse`
+    // on that export reproducing it.
+    let m = &o["mesh_quality"];
+    assert!(f(&m["f_score"][1]) > 0.6, "{m}");
+    assert!(f(&m["f_score"][2]) >= f(&m["f_score"][1]), "{m}");
+    assert!(f(&m["chamfer"]) < 0.01, "{m}");
+    let fine = &o["quality_fine"];
+    assert_eq!(f(&fine["tolerances"][1]), 0.005);
+    let rgbd = out.join("objects/horse/rgbd");
+    let depth_files = std::fs::read_dir(rgbd.join("depth")).unwrap().count();
+    assert_eq!(depth_files, views.len(), "one depth image per view");
+    let log = std::fs::read_to_string(rgbd.join("trajectory.log")).unwrap();
+    assert_eq!(log.lines().count(), 5 * views.len());
+    let k: Value =
+        serde_json::from_str(&std::fs::read_to_string(rgbd.join("camera_intrinsic.json")).unwrap())
+            .unwrap();
+    assert_eq!(
+        (k["width"].as_u64(), k["height"].as_u64()),
+        (Some(320), Some(240))
+    );
+    assert_eq!(f(&k["intrinsic_matrix"][6]), 159.5, "cx, column-major");
+    let fused = dir.path().join("fused.ply");
+    let run = nbv(&[
+        "fuse",
+        rgbd.to_str().unwrap(),
+        "-o",
+        fused.to_str().unwrap(),
+        "--truth",
+        out.join("objects/horse/truth.stl").to_str().unwrap(),
+    ]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let printed = text(&run.stdout);
+    let again: Value = serde_json::from_str(printed.lines().last().unwrap()).unwrap();
+    let (a, b) = (f(&again["triangles"]), f(&m["triangles"]));
+    assert!((a - b).abs() <= 0.01 * b, "{a} vs {b} triangles");
+    assert!((f(&again["f_score"][1]) - f(&m["f_score"][1])).abs() < 0.01);
+
     // The baseline on the same scene: the cluster alone, no view.
     let mid_only = explore(
         &scene,

@@ -572,3 +572,38 @@ proptest! {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// The reconstruction-system layout's text files (`nbv fuse`).
+
+/// A valid trajectory.log of two frames and a camera_intrinsic.json.
+const TRAJECTORY: &str = "0 0 1\n1 0 0 0.5\n0 1 0 0\n0 0 1 0.25\n0 0 0 1\n\
+                          1 1 2\n0 -1 0 0\n1 0 0 0.1\n0 0 1 0\n0 0 0 1\n";
+const INTRINSICS: &str = r#"{"width": 320, "height": 240, "intrinsic_matrix": [190.7, 0, 0, 0, 190.7, 0, 159.5, 119.5, 1]}"#;
+
+/// What parses is rigid poses and a camera; errors name the file.
+fn check_layout_texts(trajectory: &[u8], intrinsics: &[u8]) {
+    use nbv_core::surface::{parse_intrinsics, parse_trajectory};
+    match parse_trajectory(&String::from_utf8_lossy(trajectory), Path::new("t.log")) {
+        Ok(poses) => assert!(poses.iter().all(|p| {
+            let m = p.to_homogeneous();
+            m.iter().all(|x| x.is_finite())
+                && (p.rotation.to_rotation_matrix().matrix().determinant() - 1.0).abs() < 1e-6
+        })),
+        Err(e) => assert!(e.to_string().starts_with("t.log line "), "{e}"),
+    }
+    match parse_intrinsics(&String::from_utf8_lossy(intrinsics), Path::new("k.json")) {
+        Ok(k) => assert!(k.is_valid()),
+        Err(e) => assert!(e.to_string().starts_with("k.json"), "{e}"),
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    #[test]
+    fn damaged_layout_texts_never_panic(edits in edits(), bytes in proptest::collection::vec(any::<u8>(), 0..256)) {
+        check_layout_texts(&damaged(TRAJECTORY.as_bytes().to_vec(), &edits), &damaged(INTRINSICS.as_bytes().to_vec(), &edits));
+        check_layout_texts(&bytes, &bytes);
+    }
+}
