@@ -1,4 +1,4 @@
-//! `nbv sweep run | merge`: episodes of `nbv explore` over a grid of scenes, modes, scene
+//! `nbv sweep run | merge | submit`: episodes of `nbv explore` over a grid of scenes, modes, scene
 //! parameters and seeds, in parallel, resumable, shardable for batch schedulers, with a
 //! CSV, a machine-readable summary, plots and `--require` gates for CI. The engine is
 //! [`nbv_sweep::engine`] (the directory's layout: [`nbv_sweep::layout`]); this file parses
@@ -30,6 +30,8 @@ enum SweepCommand {
     Run(RunArgs),
     /// Unions the rows of several sweep directories (e.g. shards) into one.
     Merge(MergeArgs),
+    /// Submits the grid to Slurm: a job array of its shards and a merge after them.
+    Submit(SubmitArgs),
 }
 
 /// `nbv sweep run`.
@@ -103,6 +105,55 @@ pub struct MergeArgs {
     require: Vec<Gate>,
 }
 
+/// `nbv sweep submit`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+WHAT IT SUBMITS
+  OUT/slurm/array.sbatch: a job array of N tasks; task I runs
+    nbv sweep run GRID -o OUT/shards/shard_I --shard I/N --jobs J -q
+  OUT/slurm/merge.sbatch, submitted with --dependency=afterok:<array> and
+  --kill-on-invalid-dep=yes: nbv sweep merge OUT/shards/shard_* -o OUT --require ...
+  Job ids go to OUT/slurm/jobs.json, the jobs' output to OUT/slurm/*.out.
+
+FAULTS
+  Run the same command again after cancelled, failed or killed tasks: the previous jobs
+  still queued are cancelled, each task skips the episodes its shard already finished,
+  and the merge runs again.
+
+MORE NODES
+  OUT and the grid on a filesystem every node sees, and the nbv binary at the same path
+  on each (the scripts name it by its absolute path); --sbatch-arg for the partition,
+  time limit and account.
+
+EXIT STATUS
+  0 submitted (with --wait: merged, every gate holds); 1 error or a failed job; 4 a gate
+  failed (with --wait).")]
+pub struct SubmitArgs {
+    /// The grid file.
+    grid: PathBuf,
+    /// Output directory: the merged sweep, its shards and the Slurm scripts.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Array tasks (shards).
+    #[arg(long)]
+    shards: usize,
+    /// Episodes each task runs at once (its --cpus-per-task).
+    #[arg(long, default_value_t = 1)]
+    jobs: usize,
+    /// A gate the merge checks (see `nbv sweep run --help`).
+    #[arg(long = "require", value_name = "METRIC OP VALUE")]
+    require: Vec<String>,
+    /// An extra #SBATCH option for both jobs, e.g. --sbatch-arg=--time=2:00:00.
+    #[arg(long = "sbatch-arg", value_name = "ARG", allow_hyphen_values = true)]
+    sbatch_args: Vec<String>,
+    /// Wait for the merge and exit with its status.
+    #[arg(long)]
+    wait: bool,
+    /// Write the scripts only; submit nothing.
+    #[arg(long)]
+    dry_run: bool,
+}
+
 /// Runs `nbv sweep`.
 pub fn run(args: SweepArgs) -> Result<ExitCode> {
     match args.command {
@@ -111,6 +162,72 @@ pub fn run(args: SweepArgs) -> Result<ExitCode> {
             let finished = nbv_sweep::engine::merge(&a.inputs, &a.output, &a.require)?;
             Ok(report(&finished, &a.output))
         }
+        SweepCommand::Submit(a) => submit(a),
+    }
+}
+
+fn submit(args: SubmitArgs) -> Result<ExitCode> {
+    use anyhow::{Context, bail};
+    use nbv_sweep::slurm::{Submission, wait_for};
+    if args.shards == 0 || args.jobs == 0 {
+        bail!("--shards and --jobs must be at least 1");
+    }
+    for g in &args.require {
+        if let Err(e) = g.parse::<Gate>() {
+            bail!("--require {g}: {e}");
+        }
+    }
+    // The grid must parse before anything is submitted.
+    nbv_sweep::grid::SweepGrid::load(&args.grid)?;
+    std::fs::create_dir_all(&args.output)
+        .with_context(|| format!("creating {}", args.output.display()))?;
+    let absolute = |p: &Path| {
+        std::path::absolute(p).with_context(|| format!("the absolute path of {}", p.display()))
+    };
+    let submission = Submission {
+        nbv: std::env::current_exe().context("the path of this nbv binary")?,
+        grid: absolute(&args.grid)?,
+        out: absolute(&args.output)?,
+        shards: args.shards,
+        jobs: args.jobs,
+        require: args.require.clone(),
+        sbatch_args: args.sbatch_args.clone(),
+    };
+    if args.dry_run {
+        let (array, merge) = submission.write_scripts()?;
+        println!(
+            "wrote {} and {}; to submit them:\n  array=$(sbatch --parsable {})\n  sbatch --dependency=afterok:$array --kill-on-invalid-dep=yes {}",
+            array.display(),
+            merge.display(),
+            array.display(),
+            merge.display()
+        );
+        return Ok(ExitCode::SUCCESS);
+    }
+    let jobs = submission.submit()?;
+    println!(
+        "submitted: array job {} ({} task(s)), merge job {} after it; watch with `squeue -j {},{}`",
+        jobs.array, args.shards, jobs.merge, jobs.array, jobs.merge
+    );
+    if !args.wait {
+        return Ok(ExitCode::SUCCESS);
+    }
+    let end = wait_for(&jobs.merge, std::time::Duration::from_secs(2))?;
+    let log = submission
+        .slurm_dir()
+        .join(format!("merge-{}.out", jobs.merge));
+    if let Ok(text) = std::fs::read_to_string(&log) {
+        print!("{text}");
+    }
+    match (end.state.as_str(), end.exit_code) {
+        ("COMPLETED", _) => Ok(ExitCode::SUCCESS),
+        (_, 4) => Ok(ExitCode::from(EXIT_GATE_FAILED)),
+        (state, code) => bail!(
+            "the merge job {} ended {state} (exit code {code}): a task of array job {} failed or was cancelled; its output is in {}; run the same command again to complete the sweep",
+            jobs.merge,
+            jobs.array,
+            submission.slurm_dir().display()
+        ),
     }
 }
 

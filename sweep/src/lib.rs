@@ -8,7 +8,7 @@
 //!   truth (quality, coverage, registration and alignment errors); [`matching`]: which
 //!   scene object a cluster is.
 //! - [`pictures`]: the episode's PNG pictures (headless renderer).
-//! - [`grid`]: a sweep's grid file and its episodes; [`shard`]: `I/N`.
+//! - [`grid`]: a sweep's grid file and its episodes; [`shard`]: `I/N`; [`slurm`]: the grid as a Slurm job array and its merge (`nbv sweep submit`).
 //! - [`engine`]: run, resume and merge a sweep; [`layout`]: the sweep directory.
 //! - [`results`]: rows, CSV, aggregates, best settings, registration and robustness
 //!   tables; [`objectives`]: the view-objective comparison; [`gate`]: `--require` gates;
@@ -38,6 +38,7 @@ pub mod recording;
 pub mod report;
 pub mod rows;
 pub mod shard;
+pub mod slurm;
 pub mod tune;
 pub mod views;
 
