@@ -290,7 +290,8 @@ pub fn parse_intrinsics(text: &str, path: &Path) -> Result<PinholeIntrinsics, Su
 /// let log = "0 0 1\n1 0 0 0.5\n0 1 0 0\n0 0 1 0\n0 0 0 1\n";
 /// let poses = parse_trajectory(log, "trajectory.log".as_ref()).unwrap();
 /// assert_eq!(poses[0].translation.vector.x, 0.5);
-/// let bad = parse_trajectory("0 0 1\n1 0 0\n", "t.log".as_ref()).unwrap_err();
+/// let bad = parse_trajectory("0 0 1\n1 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n", "t.log".as_ref())
+///     .unwrap_err();
 /// assert_eq!(bad.to_string(), "t.log line 2: expected 4 numbers, found 3");
 /// ```
 pub fn parse_trajectory(text: &str, path: &Path) -> Result<Vec<Pose>, SurfaceError> {
