@@ -23,16 +23,22 @@ fn slurm_up() -> bool {
         })
 }
 
-/// results.csv without the time column.
+/// results.csv without its time columns (`time_s`, `nbv_time_per_view`).
 fn rows(dir: &Path) -> Vec<String> {
     let text = std::fs::read_to_string(dir.join("results.csv")).unwrap();
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let time = header.iter().position(|h| *h == "time_s").unwrap();
+    let times: Vec<usize> = header
+        .iter()
+        .enumerate()
+        .filter(|(_, h)| ["time_s", "nbv_time_per_view"].contains(h))
+        .map(|(i, _)| i)
+        .collect();
+    assert_eq!(times.len(), 2);
     let keep = |l: &str| {
         l.split(',')
             .enumerate()
-            .filter(|(i, _)| *i != time)
+            .filter(|(i, _)| !times.contains(i))
             .map(|(_, v)| v)
             .collect::<Vec<_>>()
             .join(",")
