@@ -172,14 +172,45 @@ impl SweepRun {
                         record: self.record,
                         oracle: prepared.grid.oracle,
                     };
-                    let r = run_one(&prepared.grid, e, &self.output, extras);
+                    // A panic in one episode fails that episode, not the sweep.
+                    let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                        run_one(&prepared.grid, e, &self.output, extras)
+                    }))
+                    .unwrap_or_else(|panic| {
+                        let message = panic
+                            .downcast_ref::<String>()
+                            .cloned()
+                            .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                            .unwrap_or_else(|| "a panic".into());
+                        Err(crate::error::invalid!("panicked: {message}"))
+                    });
                     done();
+                    let failure = self
+                        .output
+                        .join("episodes")
+                        .join(format!("{}.failed.json", e.id));
+                    match &r {
+                        Err(err) => record_failure(&failure, e, err),
+                        // A success replaces an earlier failure.
+                        Ok(()) => {
+                            let _ = std::fs::remove_file(&failure);
+                        }
+                    }
                     r.with_context(|| format!("episode {} ({})", e.id, e.scene.label()))
                 })
                 .collect()
         });
-        for r in results {
-            r?;
+        let failed: Vec<String> = results
+            .into_iter()
+            .filter_map(Result::err)
+            .map(|e| format!("{e:#}"))
+            .collect();
+        if !failed.is_empty() {
+            bail!(
+                "{} episode(s) failed (recorded in episodes/<id>.failed.json; running the sweep again re-runs them):\n  {}",
+                failed.len(),
+                failed.join("\n  ")
+            );
         }
         Ok(())
     }
@@ -189,6 +220,17 @@ impl SweepRun {
         let rows = load_rows(std::slice::from_ref(&self.output))?;
         finish(&self.output, &prepared.grid, &rows, gates, self.shard)
     }
+}
+
+/// Records a failed episode in `path`, `episodes/<id>.failed.json` (its id, scene and error): no
+/// row, so a resumed sweep runs it again. Best effort: the error is reported anyway.
+fn record_failure(path: &Path, e: &Episode, err: &crate::error::SweepError) {
+    let record = serde_json::json!({
+        "id": e.id,
+        "scene": e.scene.label(),
+        "error": format!("{err:#}"),
+    });
+    let _ = write_json(path, &record);
 }
 
 /// One episode of a sweep directory: its outputs into `episodes/<id>/`, its row file.

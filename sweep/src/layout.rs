@@ -5,6 +5,8 @@
 //! DIR/sweep.json               the grid (file, text, episode count) and the shard
 //! DIR/episodes/<id>.row.json   one finished episode (written atomically, last)
 //! DIR/episodes/<id>/           its episode outputs (report.json, models, map)
+//! DIR/episodes/<id>.failed.json an episode that failed or panicked, and why (no row: a
+//!                              resumed sweep runs it again)
 //! DIR/results.csv              one row per finished episode, by index
 //! DIR/summary.json             aggregates, best settings, registration table, gates
 //! DIR/plots/*.svg              heatmap of coverage, coverage against views
