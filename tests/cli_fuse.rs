@@ -4,45 +4,21 @@
 mod common;
 
 use common::{nbv, text};
-use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::Point3;
 use nbv_core::rig::DepthCameraSpec;
 use nbv_core::surface::{DepthView, PinholeIntrinsics, RgbdDataset};
+use nbv_fixtures::sphere_views::{around, sphere_depth};
 
 /// Eight views of a 5 cm sphere at (0.8, 0, 0.3) from 0.35 m around it.
 fn sphere_dataset() -> RgbdDataset {
     let k = PinholeIntrinsics::of_camera(&DepthCameraSpec::ipa1110());
     let centre = Point3::new(0.8, 0.0, 0.3);
-    let views = (0..8)
-        .map(|i| {
-            let a = i as f64 * std::f64::consts::TAU / 8.0;
-            let eye = centre + Vector3::new(a.cos(), a.sin(), 0.5).normalize() * 0.35;
-            let z = (centre - eye).normalize();
-            let x = Vector3::z().cross(&z).normalize();
-            let y = z.cross(&x);
-            let r = nalgebra::Rotation3::from_matrix_unchecked(nalgebra::Matrix3::from_columns(&[
-                x, y, z,
-            ]));
-            let pose = Isometry3::from_parts(
-                Translation3::from(eye.coords),
-                UnitQuaternion::from_rotation_matrix(&r),
-            );
-            let c = pose.inverse() * centre;
-            let mut depth = vec![f32::NAN; k.width * k.height];
-            for v in 0..k.height {
-                for u in 0..k.width {
-                    let d = k.ray(u as f64, v as f64).normalize();
-                    let b = d.dot(&c.coords);
-                    let disc = b * b - (c.coords.norm_squared() - 0.05 * 0.05);
-                    if disc >= 0.0 {
-                        depth[v * k.width + u] = ((b - disc.sqrt()) * d.z) as f32;
-                    }
-                }
-            }
-            DepthView {
-                intrinsics: k,
-                depth,
-                pose,
-            }
+    let views = around(centre, 8, 0.35, 0.5)
+        .into_iter()
+        .map(|pose| DepthView {
+            intrinsics: k,
+            depth: sphere_depth(k.width, k.height, k.fx, &pose, centre, 0.05),
+            pose,
         })
         .collect();
     RgbdDataset::new(k, views, None)

@@ -200,10 +200,11 @@ impl SweepRun {
                 })
                 .collect()
         });
+        // Each failure with its causes, as the command line prints an error.
         let failed: Vec<String> = results
             .into_iter()
             .filter_map(Result::err)
-            .map(|e| format!("{e:#}"))
+            .map(|e| error_chain(&e))
             .collect();
         if !failed.is_empty() {
             bail!(
@@ -222,13 +223,24 @@ impl SweepRun {
     }
 }
 
+/// An error and its sources, `: `-separated.
+fn error_chain(e: &dyn std::error::Error) -> String {
+    let mut text = e.to_string();
+    let mut source = e.source();
+    while let Some(s) = source {
+        text += &format!(": {s}");
+        source = s.source();
+    }
+    text
+}
+
 /// Records a failed episode in `path`, `episodes/<id>.failed.json` (its id, scene and error): no
 /// row, so a resumed sweep runs it again. Best effort: the error is reported anyway.
 fn record_failure(path: &Path, e: &Episode, err: &crate::error::SweepError) {
     let record = serde_json::json!({
         "id": e.id,
         "scene": e.scene.label(),
-        "error": format!("{err:#}"),
+        "error": error_chain(err),
     });
     let _ = write_json(path, &record);
 }

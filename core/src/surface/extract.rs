@@ -100,47 +100,18 @@ mod tests {
     use super::*;
     use crate::rig::DepthCameraSpec;
     use crate::surface::{DepthView, PinholeIntrinsics, TsdfParams};
-    use nalgebra::{Isometry3, Translation3, UnitQuaternion};
+    use nalgebra::Isometry3;
+    use nbv_fixtures::sphere_views::{look_at, sphere_depth};
 
-    /// The depth image of a sphere of radius `r` at `centre` seen from a camera at `pose`.
+    /// The depth view of a sphere of radius `r` at `centre` seen from a camera at `pose`.
     fn sphere_view(pose: Isometry3<f64>, centre: Point3<f64>, r: f64) -> DepthView {
         let k = PinholeIntrinsics::of_camera(&DepthCameraSpec::ipa1110());
-        let c = pose.inverse() * centre;
-        let mut depth = vec![f32::NAN; k.width * k.height];
-        for v in 0..k.height {
-            for u in 0..k.width {
-                let d = k.ray(u as f64, v as f64).normalize();
-                let b = d.dot(&c.coords);
-                let disc = b * b - (c.coords.norm_squared() - r * r);
-                if disc >= 0.0 {
-                    let t = b - disc.sqrt();
-                    depth[v * k.width + u] = (t * d.z) as f32;
-                }
-            }
-        }
+        let depth = sphere_depth(k.width, k.height, k.fx, &pose, centre, r);
         DepthView {
             intrinsics: k,
             depth,
             pose,
         }
-    }
-
-    /// A camera at `eye` looking at `target` (its y axis as near to −z as it can be).
-    fn look_at(eye: Point3<f64>, target: Point3<f64>) -> Isometry3<f64> {
-        let z = (target - eye).normalize();
-        let up = if z.z.abs() > 0.99 {
-            Vector3::x()
-        } else {
-            -Vector3::z()
-        };
-        let x = up.cross(&z).normalize();
-        let y = z.cross(&x);
-        let r =
-            nalgebra::Rotation3::from_matrix_unchecked(nalgebra::Matrix3::from_columns(&[x, y, z]));
-        Isometry3::from_parts(
-            Translation3::from(eye.coords),
-            UnitQuaternion::from_rotation_matrix(&r),
-        )
     }
 
     /// A 5 cm sphere seen from 14 directions: a closed, outward surface within half a
