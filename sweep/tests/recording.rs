@@ -97,6 +97,8 @@ fn an_episode_recording_holds_the_robot_the_sweep_the_grid_each_view_and_the_mod
     // The models before and after registration, the coverage (phase 1 and each view),
     // the step times, the decisions and the report.
     assert!(has(&entity::model(0, "before")) && has(&entity::model(0, "after")));
+    // The fused surface beside the point model.
+    assert!(has(&entity::model(0, "mesh")), "{paths:?}");
     assert_eq!(
         rows[&format!("/{}", entity::plot("coverage", 0))],
         1 + views
