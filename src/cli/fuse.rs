@@ -29,8 +29,8 @@ pub struct FuseArgs {
     /// Observations a voxel needs for the mesh to pass through it.
     #[arg(long, default_value_t = TsdfParams::default().min_observations)]
     pub min_observations: u16,
-    /// Score a mesh against this true mesh (STL or OBJ, world frame) instead of fusing:
-    /// `nbv fuse --score MESH --truth TRUE` (OBJ or STL).
+    /// Instead of fusing, score this mesh (OBJ or STL, world frame) against `--truth`: its
+    /// F-score, precision and completeness at 2, 5 and 10 mm and Chamfer, as JSON.
     #[arg(long)]
     pub score: Option<PathBuf>,
     /// The true mesh (STL or OBJ, world frame) to score the result against, at 2, 5 and
