@@ -6,6 +6,7 @@
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::Point3;
+use rayon::prelude::*;
 
 /// For each of `queries`, whether a finite point of `reference` lies within `tolerance`
 /// of it (all `false` when `reference` has none): [`nearest_distances`] against the
@@ -55,8 +56,9 @@ pub fn nearest_distances(reference: &[Point3<f64>], queries: &[Point3<f64>]) -> 
     let Some(tree) = tree else {
         return vec![f64::INFINITY; queries.len()];
     };
+    // Each query alone: in parallel, in order, the same at any thread count.
     queries
-        .iter()
+        .par_iter()
         .map(|p| {
             if !finite(p) {
                 return f64::INFINITY;
