@@ -11,16 +11,11 @@
 # release mode, and prints error against the ground truth and time for every method.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
-venv=${NBV_PEERS_VENV:-$root/target/peers-venv}
 views=${1:-$root/target/registration-views}
 shift || true
 [ "${1:-}" = "--" ] && shift
 
-if ! "$venv/bin/python" -c 'import open3d' 2>/dev/null; then
-    python3 -m venv "$venv"
-    "$venv/bin/pip" install --quiet --upgrade pip
-    "$venv/bin/pip" install --quiet open3d-cpu || "$venv/bin/pip" install --quiet open3d
-fi
+. "$root/benches/peers/open3d_venv.sh"
 
 cd "$root"
 if [ ! -f "$views/spec.json" ]; then

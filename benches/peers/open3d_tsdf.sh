@@ -9,16 +9,11 @@
 # open3d_registration.sh does, and builds `nbv` in release mode.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
-venv=${NBV_PEERS_VENV:-$root/target/peers-venv}
 runs=()
 while [ $# -gt 0 ] && [ "$1" != "--" ]; do runs+=("$1"); shift; done
 [ "${1:-}" = "--" ] && shift
 
-if ! "$venv/bin/python" -c 'import open3d' 2>/dev/null; then
-    python3 -m venv "$venv"
-    "$venv/bin/pip" install --quiet --upgrade pip
-    "$venv/bin/pip" install --quiet open3d-cpu || "$venv/bin/pip" install --quiet open3d
-fi
+. "$root/benches/peers/open3d_venv.sh"
 cd "$root"
 cargo build --release --quiet --bin nbv
 exec "$venv/bin/python" "$root/benches/peers/open3d_tsdf.py" "${runs[@]}" \
