@@ -76,8 +76,8 @@ impl NbvPreset {
     }
 
     /// The stop rule: the Bernoulli KL divergence of the latest view below 5 nats (paper)
-    /// or 2.5 (twin); the relative-gain rule off; the new-surface rule off (paper) or at
-    /// 2 % over two views in a row (twin).
+    /// or 2.5 (twin); the relative-gain rule off; the new-surface rule off (paper) or at 0.5 %
+    /// over two views in a row (twin).
     pub fn stop_rule(self) -> StopRule {
         let paper = StopRule {
             gain_threshold: 5.0,
@@ -90,7 +90,7 @@ impl NbvPreset {
             Self::Paper => paper,
             Self::Twin => StopRule {
                 gain_threshold: 2.5,
-                new_surface: 0.02,
+                new_surface: 0.005,
                 ..paper
             },
         }

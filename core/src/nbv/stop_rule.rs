@@ -95,7 +95,7 @@ pub struct StopRule {
     pub relative_gain: f64,
     /// The new-surface rule: stop when each of the latest [`new_surface_views`] views
     /// added less than this share of new surface
-    /// ([`SurfaceSides`](super::SurfaceSides)); 0 (the default): off.
+    /// ([`new_surface_share`](super::new_surface_share)); 0: off.
     ///
     /// [`new_surface_views`]: Self::new_surface_views
     pub new_surface: f64,

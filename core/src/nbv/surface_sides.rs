@@ -4,9 +4,9 @@
 //! side, a thin rim, the back of a bottle's neck); eq. (4) counts it as known once any ray
 //! hit it, so views that would see its unseen sides score as overlap only, while views of
 //! sides already seen keep scoring. With the sides recorded, an occupied voxel seen from a
-//! new direction counts as new surface ([`SurfaceSides::unseen_from`]). What a view added
-//! is measurable without ground truth ([`SurfaceSides::record`]): the voxels it saw first
-//! are the realised gain the new-surface stop rule reads.
+//! new direction counts as new surface ([`SurfaceSides::unseen_from`]), and each view
+//! taken is recorded ([`SurfaceSides::record`]). What the new-surface stop rule reads is
+//! measured on the points instead ([`new_surface_share`](super::new_surface_share)).
 
 use crate::occupancy::GridGeometry;
 use nalgebra::{Point3, Vector3};

@@ -16,7 +16,7 @@ use crate::cloud::PlaneFit;
 use crate::math::Pose;
 use crate::nbv::{
     Candidate, InformationGain, MissedVoxels, NextBestView, StopReason, SurfaceSides,
-    ViewpointList, VisitedViews, lazy_best, movement_cost_total,
+    ViewpointList, VisitedViews, lazy_best, movement_cost_total, new_surface_share,
 };
 use crate::planning::PlannedPath;
 use crate::rig::RigError;
@@ -337,12 +337,17 @@ impl<'a> ObjectLoop<'a> {
             .event(&ExploreEvent::GridUpdated { grid: &map.grid });
         self.visited.push(candidate.viewpoint.pose);
         self.missed.record_in(&candidate.visible.unknown, &map.grid);
-        let before = self.sides.voxels();
         let origin = nalgebra::Point3::from(seen.sensor_pose.translation.vector);
-        let added = self
-            .sides
+        self.sides
             .record(map.grid.geometry(), &origin, &seen.cloud.points);
-        let new_surface = added.voxels as f64 / before.max(1) as f64;
+        let model: Vec<nalgebra::Point3<f64>> = object
+            .cluster
+            .points
+            .iter()
+            .chain(object.views.iter().flat_map(|v| v.cloud.points.iter()))
+            .copied()
+            .collect();
+        let new_surface = new_surface_share(&model, &seen.cloud.points, self.table);
         let first_points = object.views.is_empty().then_some(seen.cloud.len());
         let gain = seen.gain;
         object.views.push(AcquiredView {

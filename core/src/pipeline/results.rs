@@ -120,8 +120,8 @@ pub struct AcquiredView {
     pub plan: PlanStats,
     /// Viewpoints tried before this one succeeded (failures since the previous view).
     pub failures_before: usize,
-    /// The new surface the view added: the object's voxels it saw first
-    /// ([`SurfaceSides`](crate::nbv::SurfaceSides)), as a share of those seen before it.
+    /// The new surface the view added: its points farther than 1 cm from the object's
+    /// points before it, as a share of those ([`new_surface_share`](crate::nbv::new_surface_share)).
     pub new_surface: f64,
 }
 

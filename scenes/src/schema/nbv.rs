@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 /// assert_eq!((paper.radius, paper.dphi_deg, paper.alpha_u), (0.3, 30.0, 2.0));
 /// // The paper preset keeps eq. (4) as printed and the stop rules the paper has.
 /// assert_eq!((paper.object_surface, paper.new_surface), (false, 0.0));
-/// assert_eq!((twin.object_surface, twin.new_surface, twin.new_surface_views), (true, 0.02, 2));
+/// assert_eq!((twin.object_surface, twin.new_surface, twin.new_surface_views), (true, 0.005, 2));
 /// assert!(toml::from_str::<Nbv>("radious = 0.3").is_err());
 /// let rse: Nbv = toml::from_str("objective = \"rear-side-entropy\"").unwrap();
 /// assert_eq!(rse.objective, nbv_core::nbv::Objective::RearSideEntropy);
@@ -104,9 +104,11 @@ pub struct Nbv {
     /// unknown voxel is an obstacle).
     pub free_above_objects: bool,
     /// The new-surface stop rule: an object is done when each of its latest
-    /// `new_surface_views` views saw fewer of its voxels for the first time than this share
-    /// of those seen before ([`SurfaceSides`](nbv_core::nbv::SurfaceSides)), in [0, 1).
-    /// Twin 0.02, paper 0 (off).
+    /// `new_surface_views` views added less new surface than this share of the surface
+    /// seen before (points farther than 1 cm from the object's earlier points:
+    /// [`new_surface_share`](nbv_core::nbv::new_surface_share)), in [0, 1). Twin 0.005
+    /// (half a point: a view under it would be a wasted view by the report's measure),
+    /// paper 0 (off).
     pub new_surface: f64,
     /// Views in a row the new-surface rule waits for (≥ 1). Both 2.
     pub new_surface_views: u32,
