@@ -112,6 +112,24 @@ impl TfBuffer {
         v
     }
 
+    /// Whether `frame` is known and has no parent: no transform names it as the child.
+    ///
+    /// ```
+    /// use nbv_bag::TfBuffer;
+    /// use nbv_bag::messages::{TFMessage, TransformStamped};
+    /// let mut buf = TfBuffer::new();
+    /// let mut t = TransformStamped::default();
+    /// (t.header.frame_id, t.child_frame_id) = ("world".into(), "sensor".into());
+    /// buf.insert(&TFMessage { transforms: vec![t] }, true);
+    /// assert!(buf.is_root("world") && !buf.is_root("sensor") && !buf.is_root("nowhere"));
+    /// ```
+    pub fn is_root(&self, frame: &str) -> bool {
+        let frame = frame_name(frame);
+        self.frames.contains(frame)
+            && !self.fixed.contains_key(frame)
+            && self.dynamic.get(frame).is_none_or(Vec::is_empty)
+    }
+
     /// `(first, last)` stamp of the dynamic samples of the edge to `child`, if any.
     pub fn time_range(&self, child: &str) -> Option<(i64, i64)> {
         let s = self.dynamic.get(frame_name(child))?;

@@ -1,4 +1,5 @@
-//! `nbv map`: phase 1 on a mid-range cloud file — object clusters, the occupancy grid and
+//! `nbv map`: phase 1 on a mid-range cloud file (or a ROS 2 bag's clouds with their sensor
+//! poses from `/tf`) — object clusters, the occupancy grid and
 //! its reduced map — printed as statistics and written as `grid.nbvgrid`, `clusters.ply`
 //! and `stats.json`. The pipeline itself is `nbv_core::perception::phase_one`, the
 //! configuration without a scene `nbv_scenes::pipeline_params::default_phase_one_config`,
@@ -20,8 +21,20 @@ use std::time::Instant;
 pub struct MapArgs {
     /// The accumulated mid-range cloud (PLY or PCD), in the world frame, with per-point
     /// sensor origins (PLY `ox oy oz`, PCD `vp_x vp_y vp_z` or a non-identity VIEWPOINT).
-    #[arg(long)]
-    cloud: PathBuf,
+    #[arg(long, required_unless_present = "bag", conflicts_with = "bag")]
+    cloud: Option<PathBuf>,
+    /// A ROS 2 bag (rosbag2 directory or .mcap file) instead of --cloud: every
+    /// sensor_msgs/PointCloud2 on --topic, moved into --fixed-frame by its sensor's pose
+    /// at the message's stamp from /tf and /tf_static, each point's ray from that pose.
+    #[arg(long, value_name = "BAG", requires = "topic")]
+    bag: Option<PathBuf>,
+    /// The bag's point-cloud topic.
+    #[arg(long, value_name = "TOPIC", requires = "bag")]
+    topic: Option<String>,
+    /// The frame the bag's clouds are mapped in, the scene's world (default: the root of
+    /// the clouds' tf tree).
+    #[arg(long, value_name = "FRAME", requires = "bag")]
+    fixed_frame: Option<String>,
     /// Output directory (created if missing): grid.nbvgrid, clusters.ply, stats.json.
     #[arg(short, long)]
     output: PathBuf,
@@ -69,35 +82,24 @@ pub fn run(args: MapArgs) -> Result<()> {
             None,
         ),
     };
-    let file = read_cloud_with(&args.cloud, &ReadOptions::default())
-        .with_context(|| format!("reading {}", args.cloud.display()))?;
-    let mut cloud = file.cloud;
-    if file.dropped_non_finite > 0 {
-        eprintln!(
-            "note: {} points with non-finite coordinates were dropped",
-            file.dropped_non_finite
-        );
-    }
-    let origin_source = sensor_origins(&args, &mut cloud)?;
+    let (source, mut cloud) = read_input(&args)?;
+    let origin_source = if args.bag.is_some() && args.origin.is_none() {
+        "/tf"
+    } else {
+        sensor_origins(&args, &source, &mut cloud)?
+    };
     if cloud.is_empty() {
-        bail!("{}: the cloud has no points", args.cloud.display());
+        bail!("{}: the cloud has no points", source.display());
     }
 
     let start = Instant::now();
-    let result = phase_one(&cloud, &config)
-        .with_context(|| format!("phase 1 on {}", args.cloud.display()))?;
+    let result =
+        phase_one(&cloud, &config).with_context(|| format!("phase 1 on {}", source.display()))?;
     let elapsed = start.elapsed().as_secs_f64();
 
-    print_summary(
-        &args.cloud,
-        &cloud,
-        origin_source,
-        &config,
-        &result,
-        elapsed,
-    );
+    print_summary(&source, &cloud, origin_source, &config, &result, elapsed);
     let stats = stats_json(
-        &args.cloud,
+        &source,
         &cloud,
         origin_source,
         scene_name.as_deref(),
@@ -124,7 +126,41 @@ pub fn run(args: MapArgs) -> Result<()> {
 
 /// Where the cloud's sensor origins come from: `--origin` (which replaces the cloud's
 /// own, with a note) or the cloud; an error without either.
-fn sensor_origins(args: &MapArgs, cloud: &mut PointCloud) -> Result<&'static str> {
+/// The input's path and its cloud: the file, or the bag's clouds in the fixed frame with
+/// each point's sensor origin.
+fn read_input(args: &MapArgs) -> Result<(PathBuf, PointCloud)> {
+    if let (Some(bag), Some(topic)) = (&args.bag, &args.topic) {
+        let views = super::bag_views::read_bag_views(bag, topic, args.fixed_frame.as_deref())?;
+        eprintln!(
+            "{}: {} clouds on {topic}, mapped in frame {:?}",
+            bag.display(),
+            views.clouds.len(),
+            views.fixed_frame
+        );
+        let mut cloud = PointCloud::default();
+        for (view, pose) in views.clouds.iter().zip(&views.poses) {
+            let origin = Point3::from(pose.translation.vector);
+            let mut moved = PointCloud::from_points(view.points.iter().map(|p| pose * p).collect());
+            moved.origins = Some(vec![origin; moved.len()]);
+            cloud.extend(&moved);
+        }
+        return Ok((bag.clone(), cloud));
+    }
+    let Some(path) = &args.cloud else {
+        bail!("give --cloud FILE or --bag BAG --topic TOPIC");
+    };
+    let file = read_cloud_with(path, &ReadOptions::default())
+        .with_context(|| format!("reading {}", path.display()))?;
+    if file.dropped_non_finite > 0 {
+        eprintln!(
+            "note: {} points with non-finite coordinates were dropped",
+            file.dropped_non_finite
+        );
+    }
+    Ok((path.clone(), file.cloud))
+}
+
+fn sensor_origins(args: &MapArgs, source: &Path, cloud: &mut PointCloud) -> Result<&'static str> {
     match (args.origin, cloud.origins.is_some()) {
         (Some(o), had) => {
             if had {
@@ -138,7 +174,7 @@ fn sensor_origins(args: &MapArgs, cloud: &mut PointCloud) -> Result<&'static str
             "{}: the cloud has no per-point sensor origins (PLY `ox oy oz`, PCD `vp_x vp_y \
              vp_z` or VIEWPOINT), so its rays cannot be cast into the occupancy grid; give \
              the sensor position with --origin x,y,z",
-            args.cloud.display()
+            source.display()
         ),
     }
 }

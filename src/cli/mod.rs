@@ -1,5 +1,6 @@
 //! The subcommands of `nbv`, one module each.
 
+pub mod bag_views;
 pub mod explore;
 pub mod explore_summary;
 pub mod fuse;

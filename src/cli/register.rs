@@ -1,4 +1,5 @@
-//! `nbv register VIEW…`: global registration of user-supplied views (PLY or PCD) by
+//! `nbv register VIEW…` (or `--bag BAG --topic T`): global registration of user-supplied
+//! views (PLY or PCD files, or a ROS 2 bag's point clouds with their poses from `/tf`) by
 //! p-ICP-GPA, the MAP registration or the sequential ICP baseline; writes one 4×4
 //! transform per view (JSON) and the merged model cloud, both only once everything has
 //! succeeded (`nbv_core::registration::RegistrationFiles`). This file parses the
@@ -44,6 +45,15 @@ INPUT
   extra properties are ignored. Points with NaN or infinite coordinates are dropped
   (reported on stderr). Two views may not share a file name.
 
+BAGS (--bag)
+  Each PointCloud2 message on --topic is one view (float32 or float64 x, y, z at any
+  offsets; organised clouds; NaN points dropped; big-endian refused), named
+  \"<topic>#<index>\" in the pose files. Its initial pose is its frame's pose in
+  --fixed-frame at the message's stamp, composed through /tf and /tf_static as tf2 does
+  (interpolated between stamps, never extrapolated: a missing or out-of-range transform
+  is an error naming the message). --poses then holds each view's registered sensor pose
+  in that frame.
+
 EXIT STATUS
   0  registered and converged; outputs written.
   1  error (unreadable or degenerate input: fewer than two views, an empty view, bad
@@ -53,10 +63,25 @@ EXIT STATUS
      tied to the reference); outputs are written and the reason is printed.")]
 pub struct RegisterArgs {
     /// Views to register (PLY or PCD), each in its own frame.
-    #[arg(required = true, value_name = "VIEW")]
+    #[arg(
+        required_unless_present = "bag",
+        conflicts_with = "bag",
+        value_name = "VIEW"
+    )]
     views: Vec<PathBuf>,
+    /// A ROS 2 bag (rosbag2 directory or .mcap file): every sensor_msgs/PointCloud2 on
+    /// --topic is a view in its sensor frame, starting at its sensor's pose in
+    /// --fixed-frame at the message's stamp, from /tf and /tf_static (see BAGS).
+    #[arg(long, value_name = "BAG", requires = "topic")]
+    bag: Option<PathBuf>,
+    /// The bag's point-cloud topic.
+    #[arg(long, value_name = "TOPIC", requires = "bag")]
+    topic: Option<String>,
+    /// The frame the bag's poses are written in (default: the root of the clouds' tf tree).
+    #[arg(long, value_name = "FRAME", requires = "bag")]
+    fixed_frame: Option<String>,
     /// Initial poses (see POSE FILES); identity for every view if absent.
-    #[arg(long, value_name = "POSES.json")]
+    #[arg(long, value_name = "POSES.json", conflicts_with = "bag")]
     init: Option<PathBuf>,
     /// Algorithm: the MAP registration that makes the pipeline's models (default), or the
     /// paper's p-ICP-GPA and sequential ICP for comparison.
@@ -146,10 +171,35 @@ impl MethodArg {
     }
 }
 
-/// Runs `nbv register …`.
-pub fn run(args: RegisterArgs) -> Result<ExitCode> {
+/// The views to register: their names (the pose files' keys), labels for messages, clouds
+/// and initial poses.
+struct Input {
+    names: Vec<String>,
+    labels: Vec<String>,
+    views: Vec<PointCloud>,
+    initial: Vec<Pose>,
+}
+
+/// Reads the views from the files or the bag.
+fn read_input(args: &RegisterArgs) -> Result<Input> {
+    if let (Some(bag), Some(topic)) = (&args.bag, &args.topic) {
+        let read = super::bag_views::read_bag_views(bag, topic, args.fixed_frame.as_deref())?;
+        eprintln!(
+            "{}: {} clouds on {topic}, poses in frame {:?}",
+            bag.display(),
+            read.clouds.len(),
+            read.fixed_frame
+        );
+        check_count_and_reference(args, read.clouds.len(), &bag.display().to_string())?;
+        return Ok(Input {
+            labels: read.names.clone(),
+            names: read.names,
+            views: read.clouds,
+            initial: read.poses,
+        });
+    }
     let names = file_names(&args.views)?;
-    check_views_and_outputs(&args)?;
+    check_count_and_reference(args, args.views.len(), &args.views[0].display().to_string())?;
     let views = args
         .views
         .iter()
@@ -159,6 +209,23 @@ pub fn run(args: RegisterArgs) -> Result<ExitCode> {
         Some(path) => read_poses(path, &names)?,
         None => vec![Pose::identity(); views.len()],
     };
+    Ok(Input {
+        names,
+        labels: args.views.iter().map(|p| p.display().to_string()).collect(),
+        views,
+        initial,
+    })
+}
+
+/// Runs `nbv register …`.
+pub fn run(args: RegisterArgs) -> Result<ExitCode> {
+    check_outputs(&args)?;
+    let Input {
+        names,
+        labels,
+        views,
+        initial,
+    } = read_input(&args)?;
     let (params, models) = registration_params(&args, views.len())?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
@@ -167,7 +234,7 @@ pub fn run(args: RegisterArgs) -> Result<ExitCode> {
     let start = Instant::now();
     let registration = pool
         .install(|| register_with_models(&views, &initial, &models, &params))
-        .map_err(|e| anyhow!(name_view(&e.to_string(), &args.views)))?;
+        .map_err(|e| anyhow!(name_view(&e.to_string(), &labels)))?;
     let elapsed = start.elapsed();
     let model = registration.merged(&views)?;
     RegistrationFiles {
@@ -191,7 +258,7 @@ pub fn run(args: RegisterArgs) -> Result<ExitCode> {
         } else {
             "NOT converged"
         },
-        method_detail(&registration.report, &names, &args.views),
+        method_detail(&registration.report, &names, &labels),
     );
     println!(
         "wrote {} and {}",
@@ -206,28 +273,33 @@ pub fn run(args: RegisterArgs) -> Result<ExitCode> {
     }
 }
 
-/// Checks the arguments before reading anything: two views or more, the reference among
-/// them, no output that is also a view, a cloud extension for the model.
-fn check_views_and_outputs(args: &RegisterArgs) -> Result<()> {
-    if args.views.len() < 2 {
+/// Two views or more (`n`, from `source`), the reference among them.
+fn check_count_and_reference(args: &RegisterArgs, n: usize, source: &str) -> Result<()> {
+    if n < 2 {
+        bail!("registration needs at least 2 views, got {n} ({source})");
+    }
+    if args.reference >= n {
         bail!(
-            "registration needs at least 2 views, got {} ({})",
-            args.views.len(),
-            args.views[0].display()
+            "--reference {} is out of range for {n} views",
+            args.reference
         );
     }
-    if args.reference >= args.views.len() {
-        bail!(
-            "--reference {} is out of range for {} views",
-            args.reference,
-            args.views.len()
-        );
-    }
+    Ok(())
+}
+
+/// Checks the outputs before reading anything: none is also a view or the bag, the model
+/// has a cloud extension.
+fn check_outputs(args: &RegisterArgs) -> Result<()> {
     for out in [&args.output, &args.poses]
         .into_iter()
         .chain(args.report.as_ref())
     {
-        if args.views.iter().any(|v| same_file(v, out)) {
+        if args
+            .views
+            .iter()
+            .chain(args.bag.as_ref())
+            .any(|v| same_file(v, out))
+        {
             bail!("output {} is also an input view", out.display());
         }
     }
@@ -269,7 +341,7 @@ fn registration_params(
 
 /// The method's own figures for the printed line: steps and correspondences (MAP), sets
 /// and the views not tied to the reference (p-ICP-GPA), or each pair (sequential ICP).
-fn method_detail(report: &MethodReport, names: &[String], views: &[PathBuf]) -> String {
+fn method_detail(report: &MethodReport, names: &[String], views: &[String]) -> String {
     match report {
         MethodReport::Map(m) => format!(
             "{} steps, {} correspondences, stop: {:?}; {}",
@@ -377,8 +449,9 @@ fn read_poses(path: &Path, names: &[String]) -> Result<Vec<Pose>> {
     parse_poses(&text, names).with_context(|| path.display().to_string())
 }
 
-/// Adds the file after the first "view K" of a library message.
-fn name_view(message: &str, views: &[PathBuf]) -> String {
+/// Adds the view's label (its file or bag message) after the first "view K" of a library
+/// message.
+fn name_view(message: &str, views: &[String]) -> String {
     let Some(at) = message.find("view ") else {
         return message.to_string();
     };
@@ -393,21 +466,16 @@ fn name_view(message: &str, views: &[PathBuf]) -> String {
         .ok()
         .and_then(|k| views.get(k))
     {
-        Some(path) => format!(
-            "{} ({}){}",
-            &message[..end],
-            path.display(),
-            &message[end..]
-        ),
+        Some(label) => format!("{} ({label}){}", &message[..end], &message[end..]),
         None => message.to_string(),
     }
 }
 
 /// "k (file), …" for view indices.
-fn list_views(indices: &[usize], views: &[PathBuf]) -> String {
+fn list_views(indices: &[usize], views: &[String]) -> String {
     indices
         .iter()
-        .map(|&k| format!("{k} ({})", views[k].display()))
+        .map(|&k| format!("{k} ({})", views[k]))
         .collect::<Vec<_>>()
         .join(", ")
 }
