@@ -272,7 +272,7 @@ fn a_bag_of_scan_lines_maps_as_its_cloud_does() {
     ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert!(
-        text(&o.stderr).contains("mapped in frame \"world\""),
+        text(&o.stderr).contains("posed in frame \"world\""),
         "{}",
         text(&o.stderr)
     );

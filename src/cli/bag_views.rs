@@ -5,10 +5,45 @@
 //! never extrapolation; `nbv_bag::TfBuffer`).
 
 use anyhow::{Context, Result, bail};
+use clap::Args;
 use nbv_bag::{BagReader, TfBuffer};
 use nbv_core::cloud::PointCloud;
 use nbv_core::math::Pose;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// `--bag BAG --topic T [--fixed-frame F]`: the options of a command that reads its views
+/// from a bag instead of files.
+#[derive(Debug, Args)]
+pub struct BagInput {
+    /// A ROS 2 bag (rosbag2 directory or .mcap file) instead of files: every
+    /// sensor_msgs/PointCloud2 on --topic is a view in its sensor frame, at that frame's
+    /// pose in --fixed-frame at the message's stamp, from /tf and /tf_static.
+    #[arg(long, value_name = "BAG", requires = "topic")]
+    pub bag: Option<PathBuf>,
+    /// The bag's point-cloud topic.
+    #[arg(long, value_name = "TOPIC", requires = "bag")]
+    pub topic: Option<String>,
+    /// The frame the views are posed in (default: the root of their tf tree).
+    #[arg(long, value_name = "FRAME", requires = "bag")]
+    pub fixed_frame: Option<String>,
+}
+
+impl BagInput {
+    /// The bag's views ([`read_bag_views`]), reported on stderr; `None` without `--bag`.
+    pub fn read(&self) -> Result<Option<BagViews>> {
+        let (Some(bag), Some(topic)) = (&self.bag, &self.topic) else {
+            return Ok(None);
+        };
+        let views = read_bag_views(bag, topic, self.fixed_frame.as_deref())?;
+        eprintln!(
+            "{}: {} clouds on {topic}, posed in frame {:?}",
+            bag.display(),
+            views.clouds.len(),
+            views.fixed_frame
+        );
+        Ok(Some(views))
+    }
+}
 
 /// The clouds of one topic with their sensor poses.
 pub struct BagViews {

@@ -23,18 +23,10 @@ pub struct MapArgs {
     /// sensor origins (PLY `ox oy oz`, PCD `vp_x vp_y vp_z` or a non-identity VIEWPOINT).
     #[arg(long, required_unless_present = "bag", conflicts_with = "bag")]
     cloud: Option<PathBuf>,
-    /// A ROS 2 bag (rosbag2 directory or .mcap file) instead of --cloud: every
-    /// sensor_msgs/PointCloud2 on --topic, moved into --fixed-frame by its sensor's pose
-    /// at the message's stamp from /tf and /tf_static, each point's ray from that pose.
-    #[arg(long, value_name = "BAG", requires = "topic")]
-    bag: Option<PathBuf>,
-    /// The bag's point-cloud topic.
-    #[arg(long, value_name = "TOPIC", requires = "bag")]
-    topic: Option<String>,
-    /// The frame the bag's clouds are mapped in, the scene's world (default: the root of
-    /// the clouds' tf tree).
-    #[arg(long, value_name = "FRAME", requires = "bag")]
-    fixed_frame: Option<String>,
+    /// The cloud from a bag instead: its clouds moved into the fixed frame (the scene's
+    /// world), each point's ray cast from its sensor's position at the stamp.
+    #[command(flatten)]
+    bag: super::bag_views::BagInput,
     /// Output directory (created if missing): grid.nbvgrid, clusters.ply, stats.json.
     #[arg(short, long)]
     output: PathBuf,
@@ -83,7 +75,7 @@ pub fn run(args: MapArgs) -> Result<()> {
         ),
     };
     let (source, mut cloud) = read_input(&args)?;
-    let origin_source = if args.bag.is_some() && args.origin.is_none() {
+    let origin_source = if args.bag.bag.is_some() && args.origin.is_none() {
         "/tf"
     } else {
         sensor_origins(&args, &source, &mut cloud)?
@@ -129,14 +121,7 @@ pub fn run(args: MapArgs) -> Result<()> {
 /// The input's path and its cloud: the file, or the bag's clouds in the fixed frame with
 /// each point's sensor origin.
 fn read_input(args: &MapArgs) -> Result<(PathBuf, PointCloud)> {
-    if let (Some(bag), Some(topic)) = (&args.bag, &args.topic) {
-        let views = super::bag_views::read_bag_views(bag, topic, args.fixed_frame.as_deref())?;
-        eprintln!(
-            "{}: {} clouds on {topic}, mapped in frame {:?}",
-            bag.display(),
-            views.clouds.len(),
-            views.fixed_frame
-        );
+    if let (Some(views), Some(bag)) = (args.bag.read()?, &args.bag.bag) {
         let mut cloud = PointCloud::default();
         for (view, pose) in views.clouds.iter().zip(&views.poses) {
             let origin = Point3::from(pose.translation.vector);

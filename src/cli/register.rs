@@ -69,17 +69,9 @@ pub struct RegisterArgs {
         value_name = "VIEW"
     )]
     views: Vec<PathBuf>,
-    /// A ROS 2 bag (rosbag2 directory or .mcap file): every sensor_msgs/PointCloud2 on
-    /// --topic is a view in its sensor frame, starting at its sensor's pose in
-    /// --fixed-frame at the message's stamp, from /tf and /tf_static (see BAGS).
-    #[arg(long, value_name = "BAG", requires = "topic")]
-    bag: Option<PathBuf>,
-    /// The bag's point-cloud topic.
-    #[arg(long, value_name = "TOPIC", requires = "bag")]
-    topic: Option<String>,
-    /// The frame the bag's poses are written in (default: the root of the clouds' tf tree).
-    #[arg(long, value_name = "FRAME", requires = "bag")]
-    fixed_frame: Option<String>,
+    /// The views from a bag instead (see BAGS).
+    #[command(flatten)]
+    bag: super::bag_views::BagInput,
     /// Initial poses (see POSE FILES); identity for every view if absent.
     #[arg(long, value_name = "POSES.json", conflicts_with = "bag")]
     init: Option<PathBuf>,
@@ -182,15 +174,8 @@ struct Input {
 
 /// Reads the views from the files or the bag.
 fn read_input(args: &RegisterArgs) -> Result<Input> {
-    if let (Some(bag), Some(topic)) = (&args.bag, &args.topic) {
-        let read = super::bag_views::read_bag_views(bag, topic, args.fixed_frame.as_deref())?;
-        eprintln!(
-            "{}: {} clouds on {topic}, poses in frame {:?}",
-            bag.display(),
-            read.clouds.len(),
-            read.fixed_frame
-        );
-        check_count_and_reference(args, read.clouds.len(), &bag.display().to_string())?;
+    if let Some(read) = args.bag.read()? {
+        check_count_and_reference(args, read.clouds.len(), "the bag's topic")?;
         return Ok(Input {
             labels: read.names.clone(),
             names: read.names,
@@ -297,7 +282,7 @@ fn check_outputs(args: &RegisterArgs) -> Result<()> {
         if args
             .views
             .iter()
-            .chain(args.bag.as_ref())
+            .chain(args.bag.bag.as_ref())
             .any(|v| same_file(v, out))
         {
             bail!("output {} is also an input view", out.display());
