@@ -28,6 +28,11 @@ Writes into OUT:
   episode.rrd                  with --record: the episode for the Rerun viewer (robot, sweep,
                                grid, each view's candidates, path, camera and cloud, models,
                                gains, coverage, step times, decisions)
+  bag/                         with --bag: a rosbag2 directory (bag_0.mcap, metadata.yaml) for
+                               RViz, Foxglove and `ros2 bag play`: /tf, /tf_static,
+                               /joint_states, /robot_description, the sweep cloud, each view's
+                               points, depth image and camera info, the grid and the candidates
+                               as markers, the models, the events (docs/bags.md)
 Same scene and seed give the same report apart from the times.")]
 pub struct ExploreArgs {
     /// Scene file, or the name of a built-in scene (paper-env1, paper-env2).
@@ -54,6 +59,10 @@ pub struct ExploreArgs {
     /// rerun`; open it with `rerun OUT/episode.rrd`).
     #[arg(long)]
     pub record: bool,
+    /// Write the episode as a ROS 2 bag: OUT/bag/, a rosbag2 directory (MCAP) for RViz,
+    /// Foxglove and `ros2 bag play` (any build; works with --record).
+    #[arg(long)]
+    pub bag: bool,
     /// No progress bars.
     #[arg(long, short)]
     pub quiet: bool,
@@ -119,6 +128,7 @@ pub fn run(args: ExploreArgs) -> Result<()> {
             let extras = nbv_sweep::episode::Extras {
                 pictures: !args.no_pictures,
                 record: args.record,
+                bag: args.bag,
                 oracle: args.oracle,
             };
             let report = nbv_sweep::episode::run_episode(
@@ -131,8 +141,8 @@ pub fn run(args: ExploreArgs) -> Result<()> {
             observer.finish();
             report?
         }
-        Backend::Hw if args.record => {
-            anyhow::bail!("--record: episodes are recorded in the twin only (--backend sim)")
+        Backend::Hw if args.record || args.bag => {
+            anyhow::bail!("--record, --bag: episodes are recorded in the twin only (--backend sim)")
         }
         Backend::Hw => run_hw(&scene, &args)?,
     };

@@ -86,6 +86,10 @@ pub struct RunArgs {
     /// with `--features rerun`).
     #[arg(long)]
     record: bool,
+    /// Also write each episode as a ROS 2 bag: `episodes/<id>/bag/`, a rosbag2 directory
+    /// (MCAP) for RViz, Foxglove and `ros2 bag play` (docs/bags.md).
+    #[arg(long)]
+    bag: bool,
     /// No progress bar.
     #[arg(long, short)]
     quiet: bool,
@@ -239,6 +243,7 @@ fn run_grid(args: RunArgs) -> Result<ExitCode> {
         jobs: args.jobs,
         pictures: args.pictures,
         record: args.record,
+        bag: args.bag,
     };
     let prepared = sweep.prepare()?;
     let todo = prepared.todo.len();

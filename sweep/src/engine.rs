@@ -84,6 +84,8 @@ pub struct SweepRun {
     pub pictures: bool,
     /// Also record each episode for the Rerun viewer (`episode.rrd`, feature `rerun`).
     pub record: bool,
+    /// Also write each episode as a ROS 2 bag (`bag/`).
+    pub bag: bool,
 }
 
 /// A sweep directory ready to run ([`SweepRun::prepare`]).
@@ -170,6 +172,7 @@ impl SweepRun {
                     let extras = crate::episode::Extras {
                         pictures: self.pictures,
                         record: self.record,
+                        bag: self.bag,
                         oracle: prepared.grid.oracle,
                     };
                     // A panic in one episode fails that episode, not the sweep.

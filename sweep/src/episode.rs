@@ -14,6 +14,7 @@
 //! OUT/oracle.json                the ground-truth ceiling, when asked ([`crate::oracle`]),
 //! OUT/coverage_by_view.svg       and each object's coverage by view beside it
 //! OUT/episode.rrd                the Rerun recording, when asked (feature `rerun`)
+//! OUT/bag/                       the episode as a ROS 2 bag, when asked ([`crate::bag_recording`])
 //! ```
 
 use crate::error::{Context, Result, bail};
@@ -31,6 +32,8 @@ pub struct Extras {
     pub pictures: bool,
     /// The recording for the Rerun viewer, `episode.rrd` (needs the feature `rerun`).
     pub record: bool,
+    /// The episode as a ROS 2 bag, `bag/` ([`crate::bag_recording`]; any build).
+    pub bag: bool,
     /// The ground-truth ceiling ([`crate::oracle`]): `oracle.json`, each object measured
     /// against it in the report, and `coverage_by_view.svg`.
     pub oracle: bool,
@@ -41,7 +44,8 @@ pub const NO_RECORDING: &str =
     "--record: this build has no episode recording; build it with `--features rerun`";
 
 /// One exploration of `scene` in the twin, its events to `observer`, its outputs written
-/// into `out`.
+/// into `out`. The bag, when asked, sees each event after `observer` (and before the
+/// Rerun recorder); neither changes the episode.
 pub fn run_episode(
     scene: &nbv_scenes::Scene,
     mode: ExploreMode,
@@ -50,11 +54,33 @@ pub fn run_episode(
     observer: &mut dyn ExploreObserver,
 ) -> Result<ExploreReport> {
     check_output(out)?;
-    if extras.record {
-        return record_episode(scene, mode, out, extras, observer);
+    if extras.record && !cfg!(feature = "rerun") {
+        return Err(crate::SweepError::Invalid(NO_RECORDING.into()));
     }
-    let (config, exploration) = explore_in_twin(scene, mode, observer)?;
-    finish_in_twin(scene, &config, &exploration, out, extras)
+    let mut bag = if extras.bag {
+        Some(crate::bag_recording::BagRecorder::create(out, scene)?)
+    } else {
+        None
+    };
+    let mut tee;
+    let observer: &mut dyn ExploreObserver = match bag.as_mut() {
+        Some(bag) => {
+            tee = bag.observe(observer);
+            &mut tee
+        }
+        None => observer,
+    };
+    let (report, exploration) = if extras.record {
+        record_episode(scene, mode, out, extras, observer)?
+    } else {
+        let (config, exploration) = explore_in_twin(scene, mode, observer)?;
+        let report = finish_in_twin(scene, &config, &exploration, out, extras)?;
+        (report, exploration)
+    };
+    if let Some(bag) = bag {
+        bag.finish(&exploration, &report)?;
+    }
+    Ok(report)
 }
 
 /// [`finish_episode`] of an exploration in the twin, with the scene's oracle when
@@ -103,7 +129,8 @@ fn oracle_of(
     crate::oracle::oracle(scene, &options).map(Some)
 }
 
-/// [`run_episode`] with its events recorded into `out/episode.rrd` as well.
+/// The episode of [`run_episode`] with its events recorded into `out/episode.rrd` as
+/// well: the report and the exploration.
 #[cfg(feature = "rerun")]
 fn record_episode(
     scene: &nbv_scenes::Scene,
@@ -111,12 +138,12 @@ fn record_episode(
     out: &Path,
     extras: Extras,
     observer: &mut dyn ExploreObserver,
-) -> Result<ExploreReport> {
+) -> Result<(ExploreReport, Exploration)> {
     let mut recorder = crate::recording::EpisodeRecorder::create(out, scene)?;
     let (config, exploration) = explore_in_twin(scene, mode, &mut recorder.observe(observer))?;
     let report = finish_in_twin(scene, &config, &exploration, out, extras)?;
     recorder.finish(scene, &exploration, &report)?;
-    Ok(report)
+    Ok((report, exploration))
 }
 
 #[cfg(not(feature = "rerun"))]
@@ -126,7 +153,7 @@ fn record_episode(
     _: &Path,
     _: Extras,
     _: &mut dyn ExploreObserver,
-) -> Result<ExploreReport> {
+) -> Result<(ExploreReport, Exploration)> {
     Err(crate::SweepError::Invalid(NO_RECORDING.into()))
 }
 

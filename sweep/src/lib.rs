@@ -17,10 +17,13 @@
 //! - [`views`]: what `nbv views` lists — each object's next-best-view candidates,
 //!   planned and checked in the twin.
 //! - [`recording`] (feature `rerun`): `episode.rrd`, an episode for the Rerun viewer.
+//! - [`bag_recording`]: `bag/`, an episode as a ROS 2 bag (rosbag2, MCAP) for RViz,
+//!   Foxglove and `ros2 bag play`.
 //! - [`tune`]: `nbv tune` — scene parameters tuned by Bayesian optimisation over
 //!   training episodes, a Pareto front of two objectives, checked on unseen seeds.
 //! - [`error`]: the error type, [`SweepError`].
 
+pub mod bag_recording;
 pub mod engine;
 pub mod episode;
 pub mod error;
