@@ -14,24 +14,8 @@ mod common;
 use common::text;
 use serde_json::Value;
 use std::collections::BTreeMap;
+use nbv_fixtures::without_timing;
 use std::path::{Path, PathBuf};
-
-/// A report without what measures time: every key of a `times` object, every key ending in
-/// `_s` (seconds) and every key whose name contains `time`.
-fn without_timing(v: &Value) -> Value {
-    match v {
-        Value::Object(m) => Value::Object(
-            m.iter()
-                .filter(|(k, _)| {
-                    !(k.as_str() == "times" || k.ends_with("_s") || k.contains("time"))
-                })
-                .map(|(k, v)| (k.clone(), without_timing(v)))
-                .collect(),
-        ),
-        Value::Array(a) => Value::Array(a.iter().map(without_timing).collect()),
-        other => other.clone(),
-    }
-}
 
 /// What an episode wrote that must not depend on the thread count: the report without its
 /// times, and the bytes of the final grid and of every object's model, by path.

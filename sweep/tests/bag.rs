@@ -15,22 +15,7 @@ use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// A report without what measures time (as tests/determinism.rs): every `times` object,
-/// every key ending in `_s` and every key containing `time`.
-fn without_timing(v: &Value) -> Value {
-    match v {
-        Value::Object(m) => Value::Object(
-            m.iter()
-                .filter(|(k, _)| {
-                    !(k.as_str() == "times" || k.ends_with("_s") || k.contains("time"))
-                })
-                .map(|(k, v)| (k.clone(), without_timing(v)))
-                .collect(),
-        ),
-        Value::Array(a) => Value::Array(a.iter().map(without_timing).collect()),
-        other => other.clone(),
-    }
-}
+use nbv_fixtures::without_timing;
 
 /// Every file under `dir` (relative path → bytes), `bag/` left out.
 fn files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
