@@ -12,9 +12,9 @@
 mod common;
 
 use common::text;
+use nbv_fixtures::without_timing;
 use serde_json::Value;
 use std::collections::BTreeMap;
-use nbv_fixtures::without_timing;
 use std::path::{Path, PathBuf};
 
 /// What an episode wrote that must not depend on the thread count: the report without its
