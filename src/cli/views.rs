@@ -35,6 +35,10 @@ pub struct ViewsArgs {
     /// Do not execute the planned paths in the twin.
     #[arg(long)]
     pub no_check: bool,
+    /// Also cast each reachable candidate as `nbv oracle` does (no noise) and print the
+    /// object's true coverage with it beside the score, and how the score ranks the truth.
+    #[arg(long)]
+    pub oracle: bool,
     /// Overrides the scene's seed.
     #[arg(long)]
     pub seed: Option<u64>,
@@ -62,6 +66,7 @@ pub fn run(args: ViewsArgs) -> Result<()> {
         object: args.object.clone(),
         plan: !args.no_plan,
         check: !args.no_check,
+        oracle: args.oracle,
     };
     let objects = list_views(&scene, &options)?;
     if args.json {
@@ -86,7 +91,17 @@ fn table(o: &ObjectViews) -> String {
         o.candidates.len(),
         o.rays_per_view
     );
-    s += "   #   x      y      z      roll   pitch   yaw    unknown occupied  score  reachable planned collision\n";
+    if let Some(t) = &o.truth {
+        s += &format!(
+            "truth: laser {:.1} %, the first candidate {:.1} %, the best {:.1} % (ranked {}), Spearman {:.2}\n",
+            100.0 * t.laser,
+            100.0 * t.chosen,
+            100.0 * t.best,
+            t.best_rank,
+            t.spearman
+        );
+    }
+    s += "   #   x      y      z      roll   pitch   yaw    unknown occupied  score  reachable planned collision  truth\n";
     let yn = |b: Option<bool>| match b {
         Some(true) => "yes",
         Some(false) => "no",
@@ -94,7 +109,7 @@ fn table(o: &ObjectViews) -> String {
     };
     for (k, c) in o.candidates.iter().enumerate() {
         s += &format!(
-            "{:>4} {:>6.3} {:>6.3} {:>6.3} {:>6.1} {:>6.1} {:>6.1} {:>7} {:>8} {:>7.0}  {:>9} {:>7} {:>9}\n",
+            "{:>4} {:>6.3} {:>6.3} {:>6.3} {:>6.1} {:>6.1} {:>6.1} {:>7} {:>8} {:>7.0}  {:>9} {:>7} {:>9}  {:>5}\n",
             k + 1,
             c.pose[0],
             c.pose[1],
@@ -107,7 +122,9 @@ fn table(o: &ObjectViews) -> String {
             c.score,
             yn(Some(c.reachable)),
             yn(c.planned),
-            yn(c.collision)
+            yn(c.collision),
+            c.truth
+                .map_or("-".to_owned(), |t| format!("{:.1}", 100.0 * t))
         );
     }
     s

@@ -25,6 +25,9 @@ pub struct ViewsOptions {
     pub plan: bool,
     /// Execute each planned path in the twin (the arm is put back after each).
     pub check: bool,
+    /// Measure each reachable candidate against the truth
+    /// ([`crate::oracle::single_view_coverage`]).
+    pub oracle: bool,
 }
 
 /// One candidate viewpoint.
@@ -48,6 +51,9 @@ pub struct CandidateRow {
     pub collision: Option<bool>,
     /// Why planning failed, if it did.
     pub failure: Option<String>,
+    /// With `--oracle`: the object's true coverage by the laser sweep and this view alone,
+    /// cast without noise (None: not measured, or unreachable).
+    pub truth: Option<f64>,
 }
 
 /// One object's list.
@@ -65,6 +71,61 @@ pub struct ObjectViews {
     pub rays_per_view: usize,
     /// Candidates, best first.
     pub candidates: Vec<CandidateRow>,
+    /// With `--oracle`: the score against the truth.
+    pub truth: Option<TruthRanking>,
+}
+
+/// How an objective's ranking of the reachable candidates compares with what each one
+/// truly sees ([`CandidateRow::truth`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct TruthRanking {
+    /// The laser sweep's coverage, before any view.
+    pub laser: f64,
+    /// The best candidate's true coverage.
+    pub best: f64,
+    /// The rank (1 = first) the objective gave the truly best candidate.
+    pub best_rank: usize,
+    /// The true coverage of the objective's first choice.
+    pub chosen: f64,
+    /// Spearman's rank correlation between score and true coverage.
+    pub spearman: f64,
+}
+
+/// Spearman's rank correlation of `a` and `b` (average ranks for ties; 0 when either is
+/// constant or there are fewer than 2 values).
+fn spearman(a: &[f64], b: &[f64]) -> f64 {
+    fn ranks(x: &[f64]) -> Vec<f64> {
+        let mut idx: Vec<usize> = (0..x.len()).collect();
+        idx.sort_by(|&i, &j| x[i].total_cmp(&x[j]));
+        let mut r = vec![0.0; x.len()];
+        let mut k = 0;
+        while k < idx.len() {
+            let mut e = k;
+            while e + 1 < idx.len() && x[idx[e + 1]] == x[idx[k]] {
+                e += 1;
+            }
+            for &i in &idx[k..=e] {
+                r[i] = (k + e) as f64 / 2.0;
+            }
+            k = e + 1;
+        }
+        r
+    }
+    let (ra, rb) = (ranks(a), ranks(b));
+    let n = a.len() as f64;
+    let mean = (n - 1.0) / 2.0;
+    let cov: f64 = ra
+        .iter()
+        .zip(&rb)
+        .map(|(x, y)| (x - mean) * (y - mean))
+        .sum();
+    let va: f64 = ra.iter().map(|x| (x - mean).powi(2)).sum();
+    let vb: f64 = rb.iter().map(|y| (y - mean).powi(2)).sum();
+    if va == 0.0 || vb == 0.0 {
+        0.0
+    } else {
+        cov / (va * vb).sqrt()
+    }
 }
 
 /// Phase 1, then every (selected) object's candidates, planned and checked.
@@ -119,6 +180,7 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
                 planned: None,
                 collision: None,
                 failure: None,
+                truth: None,
             };
             if row.reachable && options.plan {
                 query += 1;
@@ -137,6 +199,11 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
             }
             rows.push(row);
         }
+        let truth = if options.oracle {
+            Some(measure_truth(scene, &name, &list.candidates, &mut rows)?)
+        } else {
+            None
+        };
         out.push(ObjectViews {
             name,
             centre: [centre.x, centre.y, centre.z],
@@ -144,9 +211,57 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
             unreachable: list.unreachable,
             rays_per_view: list.rays_per_view,
             candidates: rows,
+            truth,
         });
     }
     Ok(out)
+}
+
+/// Casts every candidate of object `name` as the oracle does, fills each row's `truth` and
+/// ranks the objective against it.
+fn measure_truth(
+    scene: &nbv_scenes::Scene,
+    name: &str,
+    candidates: &[nbv_core::nbv::Candidate],
+    rows: &mut [CandidateRow],
+) -> Result<TruthRanking> {
+    let views: Vec<_> = candidates
+        .iter()
+        .filter_map(|c| {
+            c.viewpoint
+                .solutions
+                .first()
+                .map(|s| (c.viewpoint.pose, s.joints))
+        })
+        .collect();
+    let (laser, seen) = crate::oracle::single_view_coverage(scene, name, &views)?;
+    let mut seen = seen.into_iter();
+    for (row, c) in rows.iter_mut().zip(candidates) {
+        if !c.viewpoint.solutions.is_empty() {
+            row.truth = seen.next();
+        }
+    }
+    let measured: Vec<(usize, f64, f64)> = rows
+        .iter()
+        .enumerate()
+        .filter_map(|(k, r)| r.truth.map(|t| (k, r.score, t)))
+        .collect();
+    let (best_rank, best) =
+        measured
+            .iter()
+            .enumerate()
+            .fold((0, f64::NEG_INFINITY), |acc, (rank, &(_, _, t))| {
+                if t > acc.1 { (rank + 1, t) } else { acc }
+            });
+    let scores: Vec<f64> = measured.iter().map(|m| m.1).collect();
+    let truths: Vec<f64> = measured.iter().map(|m| m.2).collect();
+    Ok(TruthRanking {
+        laser,
+        best: best.max(laser),
+        best_rank,
+        chosen: truths.first().copied().unwrap_or(laser),
+        spearman: spearman(&scores, &truths),
+    })
 }
 
 /// A sensor pose as `nbv views` and `nbv oracle` print it: x, y, z (m), roll, pitch, yaw
@@ -172,4 +287,23 @@ fn check_in_truth(
         .teleport(*start)
         .context("putting the arm back after a check")?;
     Ok(collided)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::spearman;
+
+    #[test]
+    fn spearman_of_rankings_worked_out_by_hand() {
+        assert_eq!(spearman(&[1.0, 2.0, 3.0], &[10.0, 20.0, 30.0]), 1.0);
+        assert_eq!(spearman(&[1.0, 2.0, 3.0], &[3.0, 2.0, 1.0]), -1.0);
+        // Ranks (0, 1, 2, 3) against (1, 0, 3, 2): 1 − 6·4 / (4·15) = 0.6.
+        assert!((spearman(&[1.0, 2.0, 3.0, 4.0], &[2.0, 1.0, 4.0, 3.0]) - 0.6).abs() < 1e-12);
+        // Ties take their average rank; a constant side has no correlation.
+        assert!(
+            (spearman(&[1.0, 1.0, 2.0], &[1.0, 2.0, 3.0]) - 0.866_025_403_784_438_6).abs() < 1e-12
+        );
+        assert_eq!(spearman(&[1.0, 1.0], &[1.0, 2.0]), 0.0);
+        assert_eq!(spearman(&[], &[]), 0.0);
+    }
 }

@@ -94,3 +94,40 @@ fn a_view_from_under_the_table_sees_nothing_of_the_cube() {
     let (alone, _) = shares(&[below]);
     assert_eq!(alone[0], 0.0);
 }
+
+#[test]
+fn nbv_views_measures_each_candidate_against_the_truth() {
+    use nbv_sweep::views::{ViewsOptions, list_views};
+    let dir = tempfile::tempdir().unwrap();
+    let scene = cube_scene(dir.path());
+    let options = ViewsOptions {
+        object: Some("cube".into()),
+        oracle: true,
+        ..Default::default()
+    };
+    let objects = list_views(&scene, &options).unwrap();
+    assert_eq!(objects.len(), 1);
+    let o = &objects[0];
+    let t = o.truth.as_ref().unwrap();
+    let truths: Vec<f64> = o.candidates.iter().filter_map(|c| c.truth).collect();
+    // Every reachable candidate is measured, and only those.
+    assert_eq!(
+        truths.len(),
+        o.candidates.iter().filter(|c| c.reachable).count()
+    );
+    assert!(!truths.is_empty());
+    // A view adds to the laser's coverage, never takes from it.
+    assert!(t.laser > 0.2 && t.laser < 0.9, "laser {}", t.laser);
+    assert!(truths.iter().all(|&v| v >= t.laser && v <= 1.0));
+    let best = truths.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    assert_eq!(t.best, best);
+    assert_eq!(truths[t.best_rank - 1], best);
+    assert_eq!(t.chosen, truths[0]);
+    assert!((-1.0..=1.0).contains(&t.spearman));
+    // The laser sees the cube from the robot's side: some candidate sees a face it missed.
+    assert!(
+        best > t.laser + 0.1,
+        "best {best} over the laser's {}",
+        t.laser
+    );
+}

@@ -179,6 +179,45 @@ pub fn oracle(scene: &Scene, options: &OracleOptions) -> Result<OracleReport> {
     })
 }
 
+/// What each of `views` (camera pose, arm joints) sees of the object `name` alone, cast as
+/// the oracle casts: the coverage of the laser sweep's noise-free returns and this one view
+/// together, one entry per view (in order), beside the laser's own. `nbv views --oracle`
+/// ranks Algorithm 2's candidates by it to measure an objective against the truth. An
+/// error when the scene has no object `name`.
+pub fn single_view_coverage(
+    scene: &Scene,
+    name: &str,
+    views: &[(Pose, Joints)],
+) -> Result<(f64, Vec<f64>)> {
+    let i = scene
+        .objects
+        .iter()
+        .position(|o| o.name == name)
+        .ok_or_else(|| SweepError::Invalid(format!("{}: no object named `{name}`", scene.name)))?;
+    let config = scene.explore_config(ExploreMode::Hybrid)?;
+    let meshes = scene.object_meshes()?;
+    let laser = laser_points(scene, &config)?;
+    let mut caster = Caster::new(scene, &config)?;
+    let Some(samples) = SurfaceSamples::of(&meshes[i], caster.table_top, scene.seed) else {
+        return Ok((0.0, vec![0.0; views.len()]));
+    };
+    let base = samples.covered_by(&laser);
+    let n = samples.len() as f64;
+    let share =
+        |mask: &[bool]| mask.iter().zip(&base).filter(|&(&m, &b)| m || b).count() as f64 / n;
+    let mut out = Vec::with_capacity(views.len());
+    for batch in views.chunks(BATCH) {
+        let clouds: Vec<Vec<Point3<f64>>> = batch
+            .iter()
+            .map(|(pose, q)| caster.cast(pose, *q))
+            .collect();
+        let masks: Vec<Vec<bool>> = clouds.par_iter().map(|c| samples.covered_by(c)).collect();
+        out.extend(masks.iter().map(|m| share(m)));
+    }
+    caster.world.set_configuration(caster.home);
+    Ok((share(&vec![false; base.len()]), out))
+}
+
 /// Checks the options against the scene: a valid dense pose set, an object it has.
 fn check_options(scene: &Scene, options: &OracleOptions) -> Result<()> {
     options
