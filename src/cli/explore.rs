@@ -130,6 +130,7 @@ pub fn run(args: ExploreArgs) -> Result<()> {
                 record: args.record,
                 bag: args.bag,
                 oracle: args.oracle,
+                oracle_cache: None,
             };
             let report = nbv_sweep::episode::run_episode(
                 &scene,

@@ -174,6 +174,7 @@ impl SweepRun {
                         record: self.record,
                         bag: self.bag,
                         oracle: prepared.grid.oracle,
+                        oracle_cache: Some(self.output.join("oracles")),
                     };
                     // A panic in one episode fails that episode, not the sweep.
                     let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {

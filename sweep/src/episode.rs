@@ -26,7 +26,7 @@ use nbv_sim::rig::SimRig;
 use std::path::Path;
 
 /// What an episode writes besides the report, the models and the map.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Extras {
     /// The pictures ([`crate::pictures`]).
     pub pictures: bool,
@@ -37,6 +37,9 @@ pub struct Extras {
     /// The ground-truth ceiling ([`crate::oracle`]): `oracle.json`, each object measured
     /// against it in the report, and `coverage_by_view.svg`.
     pub oracle: bool,
+    /// Where the oracles are shared between episodes ([`crate::oracle::OracleCache`]): a
+    /// sweep's `DIR/oracles/`.
+    pub oracle_cache: Option<std::path::PathBuf>,
 }
 
 /// The error of [`Extras::record`] in a build without the feature `rerun`.
@@ -92,7 +95,7 @@ fn finish_in_twin(
     out: &Path,
     extras: Extras,
 ) -> Result<ExploreReport> {
-    let oracle = oracle_of(scene, exploration, extras)?;
+    let oracle = oracle_of(scene, exploration, &extras)?;
     finish_episode(
         scene,
         config,
@@ -107,7 +110,7 @@ fn finish_in_twin(
 fn oracle_of(
     scene: &nbv_scenes::Scene,
     exploration: &Exploration,
-    extras: Extras,
+    extras: &Extras,
 ) -> Result<Option<crate::oracle::OracleReport>> {
     if !extras.oracle {
         return Ok(None);
@@ -124,6 +127,10 @@ fn oracle_of(
         .collect();
     let options = crate::oracle::OracleOptions {
         views,
+        cache: extras
+            .oracle_cache
+            .as_ref()
+            .map(crate::oracle::OracleCache::new),
         ..Default::default()
     };
     crate::oracle::oracle(scene, &options).map(Some)

@@ -131,3 +131,56 @@ fn nbv_views_measures_each_candidate_against_the_truth() {
         t.laser
     );
 }
+
+#[test]
+fn a_stored_oracle_is_the_computed_one_and_keyed_by_what_it_reads() {
+    use nbv_sweep::oracle::{DensePoses, OracleCache, OracleOptions, oracle};
+    let dir = tempfile::tempdir().unwrap();
+    let scene = cube_scene(dir.path());
+    let dense = DensePoses {
+        radii: vec![0.45],
+        delta_theta_deg: 30.0,
+        theta_max_deg: 60.0,
+        delta_phi_deg: 60.0,
+        rolls: 1,
+    };
+    // One view an exploration took, with the arm's joints there.
+    let world = TwinWorld::from_scene(&scene).unwrap();
+    let camera = CameraModel::from_scene(&scene.sensors.short_range);
+    let centre = Point3::new(AT[0], AT[1], AT[2] + HALF);
+    let pose = view_pose(&centre, 0.45, 0.5, 0.0);
+    let q = world.robot().ik(&camera.spec.frame, &pose).unwrap()[0].joints;
+    let views = vec![("cube".to_string(), vec![(pose, q)])];
+    let cache = OracleCache::new(dir.path().join("oracles"));
+    let options = |cache: Option<OracleCache>| OracleOptions {
+        dense: dense.clone(),
+        views: views.clone(),
+        cache,
+        ..Default::default()
+    };
+    let computed = oracle(&scene, &options(None)).unwrap();
+    let first = oracle(&scene, &options(Some(cache.clone()))).unwrap();
+    assert_eq!(std::fs::read_dir(cache.dir()).unwrap().count(), 1);
+    let second = oracle(&scene, &options(Some(cache.clone()))).unwrap();
+    let objects = |r: &nbv_sweep::oracle::OracleReport| serde_json::to_value(&r.objects).unwrap();
+    assert_eq!(objects(&first), objects(&computed));
+    assert_eq!(objects(&second), objects(&computed));
+    assert_eq!(computed.objects[0].views_noise_free.len(), 2);
+
+    // What a sweep varies leaves the key; the world, the seed and the sphere change it.
+    let key = |s: &nbv_scenes::Scene| OracleCache::key(s, &dense).unwrap();
+    let mut other = scene.clone();
+    other.nbv.alpha_o = 0.25;
+    other.nbv.gain_threshold = 9.0;
+    other.registration = Default::default();
+    assert_eq!(key(&other), key(&scene));
+    let mut seed = scene.clone();
+    seed.seed += 1;
+    let mut radius = scene.clone();
+    radius.nbv.radius = 0.3;
+    let mut moved = scene.clone();
+    moved.objects[0].pose.xyz[0] += 0.01;
+    for changed in [seed, radius, moved] {
+        assert_ne!(key(&changed), key(&scene));
+    }
+}

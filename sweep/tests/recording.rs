@@ -46,8 +46,7 @@ fn an_episode_recording_holds_the_robot_the_sweep_the_grid_each_view_and_the_mod
     let extras = Extras {
         pictures: false,
         record: true,
-        bag: false,
-        oracle: false,
+        ..Default::default()
     };
     let report = run_episode(&scene, ExploreMode::Hybrid, &out, extras, &mut NoObserver).unwrap();
     let file = out.join("episode.rrd");

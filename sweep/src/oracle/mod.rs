@@ -18,11 +18,13 @@
 //! gives the best-known coverage after 1, 2, … views; the samples no pose sees are told
 //! apart by cause ([`UnseenCauses`]).
 
+mod cache;
 mod candidate_poses;
 mod set_cover;
 mod unseen;
 mod view_coverage;
 
+pub use cache::OracleCache;
 pub use candidate_poses::{DensePose, DensePoses};
 pub use set_cover::{CoverSets, GreedyCover};
 pub use unseen::{TABLE_BAND, UnseenCause, UnseenCauses, unseen_cause};
@@ -59,6 +61,10 @@ pub struct OracleOptions {
     /// of each, in order. Each object's are cast like the oracle's poses
     /// ([`OracleObject::views_noise_free`]).
     pub views: Vec<(String, Vec<(Pose, Joints)>)>,
+    /// Where oracles are kept and looked up ([`OracleCache`]; every object only): a stored
+    /// oracle of the same world, sensors, sweep and sphere is read instead of computed,
+    /// and only the `views` are cast.
+    pub cache: Option<OracleCache>,
 }
 
 /// The oracle of a scene: `oracle.json`.
@@ -148,6 +154,11 @@ pub fn oracle(scene: &Scene, options: &OracleOptions) -> Result<OracleReport> {
     let laser = laser_points(scene, &config)?;
     let mut caster = Caster::new(scene, &config)?;
     let table_top = caster.table_top;
+    let cache = match &options.cache {
+        Some(c) if options.object.is_none() => Some((c, OracleCache::key(scene, &options.dense)?)),
+        _ => None,
+    };
+    let stored = cache.as_ref().and_then(|(c, key)| c.load(key));
     let mut objects = Vec::new();
     for (i, (object, mesh)) in scene.objects.iter().zip(&meshes).enumerate() {
         if options.object.as_ref().is_some_and(|n| n != &object.name) {
@@ -161,22 +172,44 @@ pub fn oracle(scene: &Scene, options: &OracleOptions) -> Result<OracleReport> {
             .iter()
             .find(|(name, _)| name == &object.name)
             .map(|(_, taken)| taken.as_slice());
-        objects.push(caster.object_oracle(
-            i,
-            &object.name,
-            &samples,
-            &laser,
-            &options.dense,
-            taken,
-        )?);
+        let known = stored
+            .as_ref()
+            .and_then(|r| r.objects.iter().find(|o| o.name == object.name));
+        let found = match known {
+            Some(known) => {
+                let mut o = known.clone();
+                let base = samples.covered_by(&laser);
+                let base_count = base.iter().filter(|&&b| b).count();
+                o.views_noise_free = match taken {
+                    Some(taken) => caster.noise_free_curve(taken, &samples, base, base_count),
+                    None => Vec::new(),
+                };
+                caster.world.set_configuration(caster.home);
+                o
+            }
+            None => {
+                caster.object_oracle(i, &object.name, &samples, &laser, &options.dense, taken)?
+            }
+        };
+        objects.push(found);
     }
-    Ok(OracleReport {
+    let report = OracleReport {
         scene: scene.name.clone(),
         seed: scene.seed,
         dense: serde_json::to_value(&options.dense)?,
         objects,
         seconds: start.elapsed().as_secs_f64(),
-    })
+    };
+    if let Some((cache, key)) = &cache
+        && stored.is_none()
+    {
+        let mut kept = report.clone();
+        kept.objects
+            .iter_mut()
+            .for_each(|o| o.views_noise_free.clear());
+        cache.store(key, &kept)?;
+    }
+    Ok(report)
 }
 
 /// What each of `views` (camera pose, arm joints) sees of the object `name` alone, cast as

@@ -349,6 +349,7 @@ fn run_episode(out: &Path, dir: &Path, grid: &SweepGrid, e: &Episode) -> Result<
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let extras = crate::episode::Extras {
         oracle: grid.oracle,
+        oracle_cache: Some(out.join("oracles")),
         ..Default::default()
     };
     crate::engine::run_to_row(grid, e, &work, &trials::row_file(dir, e), extras)?;
