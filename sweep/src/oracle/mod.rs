@@ -239,14 +239,7 @@ pub fn single_view_coverage(
     let share =
         |mask: &[bool]| mask.iter().zip(&base).filter(|&(&m, &b)| m || b).count() as f64 / n;
     let mut out = Vec::with_capacity(views.len());
-    for batch in views.chunks(BATCH) {
-        let clouds: Vec<Vec<Point3<f64>>> = batch
-            .iter()
-            .map(|(pose, q)| caster.cast(pose, *q))
-            .collect();
-        let masks: Vec<Vec<bool>> = clouds.par_iter().map(|c| samples.covered_by(c)).collect();
-        out.extend(masks.iter().map(|m| share(m)));
-    }
+    caster.each_mask(views, &samples, |m| out.push(share(&m)));
     caster.world.set_configuration(caster.home);
     Ok((share(&vec![false; base.len()]), out))
 }
@@ -433,13 +426,22 @@ impl Caster {
         samples: &SurfaceSamples,
         sets: &mut CoverSets,
     ) {
+        self.each_mask(goals, samples, |m| sets.push_mask(&m));
+    }
+
+    /// Casts from every goal, in order, and hands `seen` which of `samples` each covers; a
+    /// batch at a time (the points of a batch held at once, their coverage in parallel).
+    fn each_mask(
+        &mut self,
+        goals: &[(Pose, Joints)],
+        samples: &SurfaceSamples,
+        mut seen: impl FnMut(Vec<bool>),
+    ) {
         for batch in goals.chunks(BATCH) {
             let clouds: Vec<Vec<Point3<f64>>> =
                 batch.iter().map(|(pose, q)| self.cast(pose, *q)).collect();
             let masks: Vec<Vec<bool>> = clouds.par_iter().map(|c| samples.covered_by(c)).collect();
-            for m in &masks {
-                sets.push_mask(m);
-            }
+            masks.into_iter().for_each(&mut seen);
         }
     }
 
