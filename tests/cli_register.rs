@@ -564,7 +564,7 @@ fn a_bag_registers_as_its_files_do() {
     let bag = dir.join("scans");
     write_bag(&s, &bag);
     let mut bags = vec![bag];
-    if let Some(python) = std::env::var_os("NBV_BAG_PYTHON") {
+    if let Some(python) = nbv_fixtures::python_check::bag_python() {
         let scans: Vec<serde_json::Value> = s
             .files
             .iter()
@@ -581,16 +581,8 @@ fn a_bag_registers_as_its_files_do() {
         std::fs::write(&json, serde_json::json!({ "scans": scans }).to_string()).unwrap();
         let written = dir.join("rosbags-scans");
         let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("bag/tests/python/bag_of_scans.py");
-        let out = Command::new(python)
-            .arg(script)
-            .arg(&written)
-            .arg(&json)
-            .output()
-            .unwrap();
-        assert!(out.status.success(), "{}", text(&out.stderr));
+        nbv_fixtures::python_check::run_python(&python, &script, [&written, &json]);
         bags.push(written);
-    } else {
-        eprintln!("skipped the rosbags-written bag: set NBV_BAG_PYTHON");
     }
     for bag in bags {
         let tag = bag.file_name().unwrap().to_string_lossy().into_owned();

@@ -5,23 +5,11 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use common::*;
 use nalgebra::{Point3, Vector3};
 use nbv_bag::BagReader;
-
-fn python() -> Option<PathBuf> {
-    match std::env::var_os("NBV_BAG_PYTHON") {
-        Some(p) => Some(PathBuf::from(p)),
-        None => {
-            eprintln!(
-                "skipped: set NBV_BAG_PYTHON to a python with rosbags, mcap, mcap-ros2-support"
-            );
-            None
-        }
-    }
-}
+use nbv_fixtures::python_check::{bag_python, run_python};
 
 fn script(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -31,21 +19,10 @@ fn script(name: &str) -> PathBuf {
 
 #[test]
 fn python_readers_decode_our_bag() {
-    let Some(python) = python() else { return };
+    let Some(python) = bag_python() else { return };
     let tmp = tempfile::tempdir().unwrap();
     let dir = write_every_type(tmp.path(), "every_type");
-    let out = Command::new(&python)
-        .arg(script("check_bag.py"))
-        .arg(&dir)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    println!("{stdout}");
-    assert!(
-        out.status.success(),
-        "check_bag.py failed:\n{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let stdout = run_python(&python, &script("check_bag.py"), [&dir]);
     for count in [
         "\"/points\": 3",
         "\"/tf\": 4",
@@ -65,33 +42,22 @@ fn python_readers_decode_our_bag() {
     }
     assert!(stdout.contains("\"TRANSIENT_LOCAL\""), "{stdout}");
     // The bare .mcap too.
-    let out = Command::new(&python)
-        .arg(script("check_bag.py"))
-        .arg(dir.join("every_type_0.mcap"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    run_python(
+        &python,
+        &script("check_bag.py"),
+        [dir.join("every_type_0.mcap")],
     );
 }
 
 #[test]
 fn we_read_a_rosbags_bag() {
-    let Some(python) = python() else { return };
+    let Some(python) = bag_python() else { return };
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("ref");
-    let out = Command::new(&python)
-        .arg(script("write_bag.py"))
-        .arg(&dir)
-        .arg("3")
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    run_python(
+        &python,
+        &script("write_bag.py"),
+        [dir.as_os_str(), "3".as_ref()],
     );
     let bag = BagReader::open(&dir).unwrap();
     assert!(

@@ -4,7 +4,6 @@
 //! one), and by the lengths the facts record in any case.
 
 use std::path::Path;
-use std::process::Command;
 
 use nbv_bag::messages::*;
 
@@ -53,23 +52,16 @@ fn schema_texts_have_the_lengths_rosbags_writes() {
 
 #[test]
 fn schema_texts_match_rosbags() {
-    let Some(python) = std::env::var_os("NBV_BAG_PYTHON") else {
-        eprintln!("skipped: set NBV_BAG_PYTHON to a python with rosbags");
+    let Some(python) = nbv_fixtures::python_check::bag_python() else {
         return;
     };
     let ours = ours();
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/python/schemas.py");
-    let out = Command::new(python)
-        .arg(script)
-        .args(ours.iter().map(|(name, _)| *name))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let stdout = nbv_fixtures::python_check::run_python(
+        &python,
+        &script,
+        ours.iter().map(|(name, _)| *name),
     );
-    let stdout = String::from_utf8(out.stdout).unwrap();
     for (name, text) in &ours {
         // The JSON string of our text, as Python's json.dumps writes it (ASCII only here).
         let mut quoted = String::from("\"");

@@ -350,28 +350,14 @@ fn markers_models_events(
 
 /// The Python readers (rosbags, mcap), when `NBV_BAG_PYTHON` names their Python.
 fn python_cross_check(dir: &Path, tf_samples: usize) {
-    // The Python readers, when there are.
-    if let Some(python) = std::env::var_os("NBV_BAG_PYTHON") {
+    if let Some(python) = nbv_fixtures::python_check::bag_python() {
         let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../bag/tests/python/check_bag.py");
-        let out = std::process::Command::new(python)
-            .arg(&script)
-            .arg(dir)
-            .output()
-            .unwrap();
-        let stdout = String::from_utf8_lossy(&out.stdout);
-        println!("{stdout}");
-        assert!(
-            out.status.success(),
-            "check_bag.py failed:\n{stdout}\n{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let stdout = nbv_fixtures::python_check::run_python(&python, &script, [dir]);
         let tf_count = format!("\"{}\": {}", topics::TF, tf_samples);
         assert_eq!(
             stdout.matches(&tf_count).count(),
             3,
             "{tf_count}:\n{stdout}"
         );
-    } else {
-        eprintln!("Python cross-check skipped: set NBV_BAG_PYTHON");
     }
 }
