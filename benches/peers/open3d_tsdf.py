@@ -8,7 +8,9 @@ camera-to-world poses) and objects/<name>/truth.stl (the true object, world fram
 Open3D: `o3d.t.geometry.VoxelBlockGrid` (tsdf, weight), the same voxel size and truncation
 (trunc_voxel_multiplier = truncation / voxel), depth_scale 1000, depth_max 1 m (the Dinast
 sees to 0.8 m), `compute_unique_block_coordinates` then `integrate` per frame, and
-`extract_triangle_mesh` at weight thresholds 1 and Open3D's default 3. (ScalableTSDFVolume is
+`extract_triangle_mesh` at weight thresholds 0.5, 1 and Open3D's default 3: it keeps a voxel whose
+weight (1 per view) is above the threshold, so these keep the voxels seen by at least 1, 2
+and 4 views. (ScalableTSDFVolume is
 not used: in Open3D 0.20.0 it integrates nothing from float depth.) nbv: `nbv fuse` on the same
 directory at the same voxel and truncation; its printed time is the fusion in memory (file
 reading excluded), as Open3D's here.
@@ -53,7 +55,10 @@ def open3d_mesh(rgbd, voxel, truncation, threshold, threads):
     for depth, extrinsic in zip(depths, extrinsics):
         coords = vbg.compute_unique_block_coordinates(depth, K, extrinsic, 1000.0, 1.0, mult)
         vbg.integrate(coords, depth, K, extrinsic, 1000.0, 1.0, mult)
-    mesh = vbg.extract_triangle_mesh(weight_threshold=threshold).to_legacy()
+    try:
+        mesh = vbg.extract_triangle_mesh(weight_threshold=threshold).to_legacy()
+    except RuntimeError:  # nothing above the threshold: Open3D cannot colour an empty mesh
+        mesh = o3d.geometry.TriangleMesh()
     seconds = time.perf_counter() - start
     return mesh, seconds, len(depths)
 
@@ -83,31 +88,36 @@ def main():
         o3d.utility.set_max_threads(args.threads)
     print("| episode | object | method | F@2mm | F@5mm | F@10mm | Chamfer mm | triangles | fusion ms |")
     print("|---|---|---|---|---|---|---|---|---|")
+    found = [rgbd for episode in args.episodes
+             for rgbd in sorted(glob.glob(os.path.join(episode, "objects", "*", "rgbd")))
+             if os.path.exists(os.path.join(os.path.dirname(rgbd), "truth.stl"))]
+    if not found:
+        sys.exit(f"error: no objects/<name>/rgbd/ with a truth.stl beside it under {' '.join(args.episodes)}")
     with tempfile.TemporaryDirectory() as tmp:
-        for episode in args.episodes:
-            for rgbd in sorted(glob.glob(os.path.join(episode, "objects", "*", "rgbd"))):
-                obj = os.path.dirname(rgbd)
-                name = os.path.basename(obj)
-                truth = os.path.join(obj, "truth.stl")
-                if not os.path.exists(truth):
+        for rgbd in found:
+            obj = os.path.dirname(rgbd)
+            episode = os.path.basename(os.path.dirname(os.path.dirname(obj)).rstrip("/"))
+            name = os.path.basename(obj)
+            truth = os.path.join(obj, "truth.stl")
+            ours = os.path.join(tmp, "nbv.ply")
+            out = subprocess.run([args.nbv, "fuse", rgbd, "-o", ours, "--voxel", str(args.voxel),
+                                  "--truncation", str(args.truncation), "--truth", truth],
+                                 check=True, capture_output=True, text=True).stdout.splitlines()
+            ms = float(re.search(r"fused in ([0-9.]+) ms", out[0]).group(1))
+            views = int(re.search(r"(\d+) view", out[0]).group(1))
+            row(episode, name, "nbv fuse", json.loads(out[-1]), ms, views)
+            # Open3D keeps a voxel whose weight (1 per view) is above the threshold:
+            # 0.5 keeps every observed voxel (as nbv's default), 1 those seen by two views
+            # or more, 3 (its default) by four or more.
+            for threshold, label in ((0.5, "≥ 1 view"), (1.0, "≥ 2 views"), (3.0, "≥ 4 views, its default")):
+                mesh, seconds, views = open3d_mesh(rgbd, args.voxel, args.truncation, threshold, args.threads)
+                method = f"Open3D VBG {label}"
+                if len(mesh.triangles) == 0:
+                    print(f"| {episode} | {name} | {method} | empty | | | | 0 | |")
                     continue
-                ours = os.path.join(tmp, "nbv.ply")
-                out = subprocess.run([args.nbv, "fuse", rgbd, "-o", ours, "--voxel", str(args.voxel),
-                                      "--truncation", str(args.truncation), "--truth", truth],
-                                     check=True, capture_output=True, text=True).stdout.splitlines()
-                ms = float(re.search(r"fused in ([0-9.]+) ms", out[0]).group(1))
-                views = int(re.search(r"(\d+) view", out[0]).group(1))
-                row(os.path.basename(episode.rstrip("/")), name, "nbv fuse", json.loads(out[-1]), ms, views)
-                for threshold in (1.0, 3.0):
-                    mesh, seconds, views = open3d_mesh(rgbd, args.voxel, args.truncation, threshold, args.threads)
-                    path = os.path.join(tmp, "open3d.obj")
-                    o3d.io.write_triangle_mesh(path, mesh)
-                    if len(mesh.triangles) == 0:
-                        print(f"| {episode} | {name} | Open3D w≥{threshold:g} | empty | | | | 0 | |")
-                        continue
-                    row(os.path.basename(episode.rstrip("/")), name, f"Open3D VBG w≥{threshold:g}",
-                        score(args.nbv, path, truth), 1e3 * seconds, views)
-
+                path = os.path.join(tmp, "open3d.obj")
+                o3d.io.write_triangle_mesh(path, mesh)
+                row(episode, name, method, score(args.nbv, path, truth), 1e3 * seconds, views)
 
 if __name__ == "__main__":
     main()

@@ -10,7 +10,10 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 runs=()
-while [ $# -gt 0 ] && [ "$1" != "--" ]; do runs+=("$1"); shift; done
+while [ $# -gt 0 ] && [ "$1" != "--" ]; do
+    [ -d "$1" ] || { echo "error: $1: no such run directory" >&2; exit 2; }
+    runs+=("$(cd "$1" && pwd)"); shift
+done
 [ "${1:-}" = "--" ] && shift
 
 . "$root/benches/peers/open3d_venv.sh"
