@@ -2,7 +2,8 @@
 sequential ICP) on the same views, scored against the same ground truth.
 
 Input: a directory written by `cargo run --release -p nbv-core --example registration_views
--- DIR`: view_<k>.ply (each view in its own sensor frame), initial.json (initial poses,
+-- DIR` (the paper's Table II case) or `--example user_scans -- DIR --mesh M` (a user's ring
+or hand-held path of a mesh): view_<k>.ply (each view in its own sensor frame), initial.json (initial poses,
 view 0 exact: the reference), truth.json (true poses) and spec.json. Pose files map file
 names to 4x4 row-major view-to-world matrices, the format `nbv register` reads and writes.
 
@@ -157,6 +158,9 @@ def main():
     ap.add_argument("--runs", type=int, default=5, help="timed runs; the best is shown")
     ap.add_argument("--max-iterations", type=int, default=300,
                     help="iteration cap of the sequential ICPs (Open3D and nbv)")
+    ap.add_argument("--only", default="",
+                    help="comma-separated words; run only the methods whose label has one "
+                         "(e.g. multiway,MAP)")
     args = ap.parse_args()
 
     with open(os.path.join(args.views, "spec.json")) as f:
@@ -192,6 +196,9 @@ def main():
         ("nbv sequential ICP, point-to-plane, 1 thread",
          lambda: nbv_register(args.nbv, files, init_path, "icp-plane", 1)),
     ]:
+        words = [w for w in args.only.split(",") if w]
+        if words and not any(w in label for w in words):
+            continue
         poses, t = best_of(args.runs, fn)
         rows.append((label, poses, t))
 

@@ -20,17 +20,19 @@
 //! 18 × 12 × 14 cm): a top view overlapping every other view and views 36° apart on a
 //! ring around it, 0.3 mm range noise; initial poses off by 1° and 5 mm.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
-use nbv_core::cloud::io::{CloudIoError, WriteOptions, write_atomically, write_cloud};
-use nbv_core::math::Pose;
-use nbv_core::math::pose_file::poses_json;
+use nbv_core::cloud::io::{WriteOptions, write_cloud};
+
+#[path = "support/views_dir.rs"]
+mod views_dir;
 
 #[path = "../tests/registration_data/mod.rs"]
 mod registration_data;
 
 use registration_data::{Spec, generate};
+use views_dir::{write_json, write_poses};
 
 fn main() -> ExitCode {
     match run() {
@@ -108,20 +110,4 @@ fn run() -> Result<(), String> {
         out.display()
     );
     Ok(())
-}
-
-/// Writes the pose file of the views ([`nbv_core::math::pose_file::poses_json`]).
-fn write_poses(path: &Path, names: &[String], poses: &[Pose]) -> Result<(), String> {
-    write_bytes(path, &poses_json(names, poses))
-}
-
-fn write_json(path: &Path, value: &serde_json::Value) -> Result<(), String> {
-    let mut bytes = serde_json::to_vec_pretty(value).map_err(|e| e.to_string())?;
-    bytes.push(b'\n');
-    write_bytes(path, &bytes)
-}
-
-fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    write_atomically(path, |w| w.write_all(bytes).map_err(CloudIoError::from))
-        .map_err(|e| e.to_string())
 }

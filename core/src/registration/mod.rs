@@ -31,7 +31,8 @@
 //!
 //! What they share sits here: the parameters ([`RegistrationParams`]), the report, the
 //! errors, the views' k-d trees and nearest-neighbour caches, normals, Procrustes, the
-//! merge and the files of a registration of view files ([`RegistrationFiles`]). The
+//! merge, the files of a registration of view files ([`RegistrationFiles`]) and the range
+//! noise of views that come without a sensor model ([`estimate_range_sigma`]). The
 //! pipeline builds each object's model with the MAP registration; it runs p-ICP-GPA and
 //! sequential ICP beside it for comparison (`[registration] baselines`).
 //!
@@ -51,6 +52,7 @@ mod outcome;
 mod output_files;
 mod params;
 mod procrustes;
+mod range_noise_estimate;
 mod view_tree;
 
 pub use error::RegistrationError;
@@ -67,6 +69,7 @@ pub use outcome::{
 pub use output_files::{RegistrationFileError, RegistrationFiles};
 pub use params::{IcpParams, MapParams, Method, RegistrationParams, SetRule};
 pub use procrustes::rigid_procrustes;
+pub use range_noise_estimate::{NOISE_NEIGHBOURS, estimate_range_sigma};
 
 use crate::cloud::PointCloud;
 use crate::math::Pose;
