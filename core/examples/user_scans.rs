@@ -41,7 +41,7 @@ mod registration_data;
 #[path = "support/views_dir.rs"]
 mod views_dir;
 
-use registration_data::random_error;
+use registration_data::{pixel_grid_hits, random_error};
 use views_dir::{write_json, write_poses};
 
 /// Half the field of view (degrees).
@@ -239,34 +239,26 @@ fn scan(
     pose: &Pose,
     points: usize,
 ) -> Vec<(Point3<f64>, Vector3<f64>)> {
-    let cos_max = MAX_INCIDENCE_DEG.to_radians().cos();
-    let half = HALF_FOV_DEG.to_radians().tan();
-    let origin = pose.translation.vector;
+    let cast = |o: &Vector3<f64>, d: &Vector3<f64>| {
+        let ray = Ray::new(
+            parry3d::math::Vector::new(o.x as f32, o.y as f32, o.z as f32),
+            parry3d::math::Vector::new(d.x as f32, d.y as f32, d.z as f32),
+        );
+        let hit = shape.cast_local_ray_and_get_normal(&ray, 10.0, true)?;
+        let n = Vector3::new(
+            f64::from(hit.normal.x),
+            f64::from(hit.normal.y),
+            f64::from(hit.normal.z),
+        );
+        // The face's normal, turned to face the scanner.
+        let n = if n.dot(d) > 0.0 { -n } else { n };
+        Some((o + d * f64::from(hit.time_of_impact), n))
+    };
     let render = |n: usize| {
-        let mut hits = Vec::new();
-        for row in 0..n {
-            for col in 0..n {
-                let x = half * (2.0 * (col as f64 + 0.5) / n as f64 - 1.0);
-                let y = half * (2.0 * (row as f64 + 0.5) / n as f64 - 1.0);
-                let dir = pose.rotation * Vector3::new(x, y, 1.0).normalize();
-                let ray = Ray::new(
-                    parry3d::math::Vector::new(origin.x as f32, origin.y as f32, origin.z as f32),
-                    parry3d::math::Vector::new(dir.x as f32, dir.y as f32, dir.z as f32),
-                );
-                if let Some(hit) = shape.cast_local_ray_and_get_normal(&ray, 10.0, true) {
-                    let normal = Vector3::new(
-                        f64::from(hit.normal.x),
-                        f64::from(hit.normal.y),
-                        f64::from(hit.normal.z),
-                    );
-                    if normal.dot(&dir).abs() >= cos_max {
-                        let t = f64::from(hit.time_of_impact);
-                        hits.push((Point3::from(origin + dir * t), dir));
-                    }
-                }
-            }
-        }
-        hits
+        pixel_grid_hits(pose, n, HALF_FOV_DEG, MAX_INCIDENCE_DEG, cast)
+            .into_iter()
+            .map(|(p, d)| (Point3::from(p), d))
+            .collect::<Vec<_>>()
     };
     let mut n = 64;
     loop {

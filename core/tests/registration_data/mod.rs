@@ -181,9 +181,23 @@ fn cast(origin: &Vector3<f64>, dir: &Vector3<f64>) -> Option<(Vector3<f64>, Vect
 }
 
 /// Hits of an n × n pixel grid over a 52° field of view from `pose`, in raster order:
-/// (world point, range along the ray, ray direction in world).
+/// (world point, ray direction in world).
 fn render(pose: &Pose, n: usize, max_incidence_deg: f64) -> Vec<(Vector3<f64>, Vector3<f64>)> {
-    let half = 26f64.to_radians().tan();
+    pixel_grid_hits(pose, n, 26.0, max_incidence_deg, cast)
+}
+
+/// Hits of an n × n pixel grid over a square field of view of `2·half_fov_deg` from
+/// `pose` (z forward), in raster order: (world point, unit ray direction in world), the
+/// first hit of each ray by `cast(origin, direction)` (point and outward unit normal),
+/// those seen at more than `max_incidence_deg` from the normal dropped.
+pub fn pixel_grid_hits(
+    pose: &Pose,
+    n: usize,
+    half_fov_deg: f64,
+    max_incidence_deg: f64,
+    cast: impl Fn(&Vector3<f64>, &Vector3<f64>) -> Option<(Vector3<f64>, Vector3<f64>)>,
+) -> Vec<(Vector3<f64>, Vector3<f64>)> {
+    let half = half_fov_deg.to_radians().tan();
     let cos_max = max_incidence_deg.to_radians().cos();
     let origin = pose.translation.vector;
     let mut hits = Vec::new();
