@@ -108,6 +108,25 @@ impl PointCloud {
         Ok(())
     }
 
+    /// At most `n` of the points, evenly spread over the cloud's order (columns
+    /// included); 0, or a cloud of at most `n` points, keeps all.
+    ///
+    /// ```
+    /// use nbv_core::cloud::PointCloud;
+    /// use nalgebra::Point3;
+    /// let c = PointCloud::from_points((0..10).map(|i| Point3::new(i as f64, 0.0, 0.0)).collect());
+    /// let xs: Vec<f64> = c.thinned(4).points.iter().map(|p| p.x).collect();
+    /// assert_eq!(xs, vec![0.0, 2.0, 5.0, 7.0]);
+    /// assert_eq!(c.thinned(0).len(), 10);
+    /// ```
+    pub fn thinned(&self, n: usize) -> Self {
+        if n == 0 || self.len() <= n {
+            return self.clone();
+        }
+        let indices: Vec<usize> = (0..n).map(|k| k * self.len() / n).collect();
+        self.select(&indices)
+    }
+
     /// A new cloud made of the points at `indices` (in that order), columns included.
     pub fn select(&self, indices: &[usize]) -> Self {
         fn pick<T: Clone>(col: &Option<Vec<T>>, indices: &[usize]) -> Option<Vec<T>> {

@@ -15,15 +15,6 @@ use crate::registration::{
     RegistrationParams, ViewModel, register, register_prepared, register_prepared_from,
 };
 
-/// Evenly keeps at most `n` points of `cloud` (all columns); 0 keeps all.
-fn subsample(cloud: &PointCloud, n: usize) -> PointCloud {
-    if n == 0 || cloud.len() <= n {
-        return cloud.clone();
-    }
-    let indices: Vec<usize> = (0..n).map(|k| k * cloud.len() / n).collect();
-    cloud.select(&indices)
-}
-
 /// The registration's input: `reference` (view 0) and the non-empty views, subsampled,
 /// each camera point with its sensor position — each view's points smoothed for the
 /// registration where it has them (`smoothed`), else its points as acquired.
@@ -34,14 +25,14 @@ fn registration_views(
     smoothed: bool,
 ) -> Vec<PointCloud> {
     let points = config.registration_points;
-    let mut views = vec![subsample(reference, points)];
+    let mut views = vec![reference.thinned(points)];
     views.extend(object.registered_views().map(|v| {
         let source = v
             .registration_cloud
             .as_ref()
             .filter(|c| smoothed && !c.is_empty())
             .unwrap_or(&v.cloud);
-        let mut cloud = subsample(source, points);
+        let mut cloud = source.thinned(points);
         // Every point of a frame was seen from the reported sensor position.
         let o = nalgebra::Point3::from(v.sensor_pose.translation.vector);
         cloud.origins = Some(vec![o; cloud.len()]);
