@@ -13,9 +13,8 @@ use nbv_core::cloud::io::{CloudFormat, read_cloud_with};
 use nbv_core::math::Pose;
 use nbv_core::math::pose_file::parse_poses;
 use nbv_core::registration::{
-    MapPreparation, Method, MethodReport, PosePrior, RangeNoise, Registration, RegistrationError,
-    RegistrationFiles, RegistrationParams, SetRule, ViewModel, estimate_range_sigma,
-    register_prepared_from, register_with_models,
+    Method, MethodReport, PosePrior, RangeNoise, RegistrationFiles, RegistrationParams, SetRule,
+    ViewModel, estimate_range_sigma, register_coarse_to_fine, register_with_models,
 };
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -257,7 +256,7 @@ pub fn run(args: RegisterArgs) -> Result<ExitCode> {
     let registration = pool
         .install(|| {
             if args.method == MethodArg::Map {
-                coarse_to_fine(&views, &initial, &models, &params)
+                register_coarse_to_fine(&views, &initial, &models, &params)
             } else {
                 register_with_models(&views, &initial, &models, &params)
             }
@@ -367,78 +366,6 @@ fn registration_params(
 
 /// The range noise of the methods that do not estimate it (p-ICP-GPA and ICP ignore it).
 const DEFAULT_RANGE_SIGMA: f64 = 0.002;
-
-/// Points per view in the coarse stages of [`coarse_to_fine`] (every n-th point).
-const COARSE_POINTS: usize = 1000;
-
-/// The MAP registration from coarse to fine: `models`' noise σ is the last stage's; the
-/// first is the correspondence distance / 8 (3.75 mm at the default 3 cm), each next one
-/// a quarter of the last, until σ; the coarse stages on every n-th point, at most
-/// [`COARSE_POINTS`] per view, each stopping once a step moves no view by a tenth of its σ. A stage matches points within a few of its σ, so a coarse
-/// stage captures views several millimetres off and a fine one weighs them by the noise;
-/// each starts where the last ended, every pose prior stays on the initial poses. The
-/// scans of a user's ring or hand-held path, 2° and 5 mm off, end 0.07–0.22 mm from the
-/// truth this way where one stage at their σ ends millimetres off (docs/peers.md, "Users'
-/// scans").
-fn coarse_to_fine(
-    views: &[PointCloud],
-    initial: &[Pose],
-    models: &[ViewModel],
-    params: &RegistrationParams,
-) -> Result<Registration, RegistrationError> {
-    let sigma = models
-        .iter()
-        .map(|m| m.noise.sigma(1.0))
-        .fold(0.0, f64::max);
-    let mut stages = Vec::new();
-    let mut s = params.max_correspondence_distance / 8.0;
-    while s > 1.5 * sigma {
-        stages.push(s);
-        s /= 4.0;
-    }
-    stages.push(sigma);
-    // A coarse stage needs no more points than its σ resolves.
-    let coarse: Vec<PointCloud> = views
-        .iter()
-        .map(|v| {
-            let stride = v.len().div_ceil(COARSE_POINTS).max(1);
-            v.select(&(0..v.len()).step_by(stride).collect::<Vec<_>>())
-        })
-        .collect();
-    let mut start = initial.to_vec();
-    let mut last = None;
-    for s in stages {
-        let fine = s <= sigma;
-        let staged: Vec<ViewModel> = models
-            .iter()
-            .map(|m| ViewModel {
-                noise: if fine {
-                    m.noise
-                } else {
-                    RangeNoise::constant(s)
-                },
-                prior: m.prior,
-            })
-            .collect();
-        let points = if fine { views } else { &coarse };
-        // A coarse stage has only to land within the next one's reach: it stops when a
-        // step moves no view by a tenth of its σ (at 10 cm from the centre for a turn).
-        let staged_params = if fine {
-            params.clone()
-        } else {
-            let mut p = params.clone();
-            p.map.translation_tolerance = p.map.translation_tolerance.max(s / 10.0);
-            p.map.rotation_tolerance = p.map.rotation_tolerance.max(s / 10.0 / 0.1);
-            p
-        };
-        let params = &staged_params;
-        let prepared = MapPreparation::new(points, &staged, params)?;
-        let r = register_prepared_from(&prepared, points, initial, &start, &staged, params)?;
-        start.clone_from(&r.poses);
-        last = Some(r);
-    }
-    Ok(last.expect("at least the last stage"))
-}
 
 /// The method's own figures for the printed line: steps and correspondences (MAP), sets
 /// and the views not tied to the reference (p-ICP-GPA), or each pair (sequential ICP).

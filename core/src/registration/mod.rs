@@ -22,6 +22,8 @@
 //!    the target ([`MapParams::along_rays`]): the pipeline registers by nearest points and
 //!    refines each object's final registration along the rays. A [`MapPreparation`] keeps
 //!    the views' trees and surface elements for later runs on the same views.
+//!    [`register_coarse_to_fine`] runs it in stages of decreasing σ for views far off
+//!    their noise (a user's scans, `nbv register`).
 //! 2. **p-ICP-GPA** ([`Method::Gpa`], `gpa/`), the paper's method: mutual nearest
 //!    neighbours between every pair of views, independent sets ([`SetRule`]), and
 //!    generalised Procrustes of every view onto the sets' centroids.
@@ -57,6 +59,7 @@ mod view_tree;
 
 pub use error::RegistrationError;
 pub use icp::align;
+pub use map::coarse_to_fine::{COARSE_POINTS, coarse_sigmas, register_coarse_to_fine};
 pub use map::depth_image_free_space::DepthImageFreeSpace;
 pub use map::free_space::FreeSpace;
 pub use map::preparation::MapPreparation;

@@ -44,6 +44,7 @@
 //! (left at the prior), and whether the objective fell. Chunked sums in a fixed order make
 //! the result identical at any thread count.
 
+pub(crate) mod coarse_to_fine;
 pub(crate) mod correspondences;
 pub(crate) mod depth_image_free_space;
 pub(crate) mod free_space;
