@@ -7,14 +7,15 @@
 
 use anyhow::{Context, Result, anyhow, bail};
 use clap::{Args, ValueEnum};
-use nalgebra::Point3;
+use nalgebra::{Point3, Vector3};
 use nbv_core::cloud::PointCloud;
 use nbv_core::cloud::io::{CloudFormat, read_cloud_with};
 use nbv_core::math::Pose;
 use nbv_core::math::pose_file::parse_poses;
 use nbv_core::registration::{
     Method, MethodReport, PosePrior, RangeNoise, RegistrationFiles, RegistrationParams, SetRule,
-    ViewModel, estimate_range_sigma, register_coarse_to_fine, register_with_models,
+    ViewModel, estimate_range_sigma, estimate_view_direction, register_coarse_to_fine,
+    register_with_models,
 };
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -100,11 +101,13 @@ pub struct RegisterArgs {
     /// point's 16 nearest neighbours across their plane, the median over the views).
     #[arg(long, value_name = "METRES")]
     range_sigma: Option<f64>,
-    /// map: where a view without per-point sensor origins was taken from: `frame`, the
-    /// origin of its own frame (the convention of scanners' files, PCL's default
-    /// VIEWPOINT and a ROS sensor frame), or `unknown` (isotropic noise, no test of which
-    /// way a surface faces).
-    #[arg(long, value_enum, value_name = "WHERE", default_value_t = SensorOriginArg::Frame)]
+    /// map: where a view without per-point sensor origins was taken from: `auto`, the
+    /// origin of its own frame where that stands on the side the view was seen from or away
+    /// from its points (the convention of scanners' files, PCL's default VIEWPOINT and a ROS sensor frame),
+    /// else each point seen along the view's direction estimated from its surface (a
+    /// turntable's or an object frame: the Stanford scans); `frame`, always its frame's
+    /// origin; or `unknown` (isotropic noise, no test of which way a surface faces).
+    #[arg(long, value_enum, value_name = "WHERE", default_value_t = SensorOriginArg::Auto)]
     sensor_origin: SensorOriginArg,
     /// p-ICP-GPA: how the mutual-nearest-neighbour graph becomes independent sets.
     #[arg(long, value_enum, default_value_t = SetRuleArg::Cliques)]
@@ -126,6 +129,9 @@ pub struct RegisterArgs {
 /// `--sensor-origin` values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum SensorOriginArg {
+    /// The frame's origin unless it stands behind the view's surface among its points,
+    /// else along the view's estimated direction.
+    Auto,
     /// The origin of the view's own frame.
     Frame,
     /// Unknown.
@@ -228,16 +234,14 @@ pub fn run(args: RegisterArgs) -> Result<ExitCode> {
         mut views,
         initial,
     } = read_input(&args)?;
-    if args.method == MethodArg::Map && args.sensor_origin == SensorOriginArg::Frame {
-        for view in views.iter_mut().filter(|v| v.origins.is_none()) {
-            view.origins = Some(vec![Point3::origin(); view.len()]);
-        }
-    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
         .build()
         .context("cannot start the worker threads")?;
     let start = Instant::now();
+    if args.method == MethodArg::Map {
+        pool.install(|| set_sensor_origins(&mut views, &labels, args.sensor_origin));
+    }
     let range_sigma = match args.range_sigma {
         Some(sigma) => sigma,
         None if args.method == MethodArg::Map => {
@@ -362,6 +366,60 @@ fn registration_params(
         bail!("--range-sigma must be finite and > 0, got {range_sigma}");
     }
     Ok((params, vec![model; n]))
+}
+
+/// A frame's origin within this multiple of the view's radius about its centroid stands
+/// among its points (the Stanford bunny's turntable frame: 0.98–1.18).
+const ORIGIN_AMONG_POINTS: f64 = 1.5;
+
+/// Gives every view without per-point sensor origins its sensor (see `--sensor-origin`),
+/// and says where the frame's origin was not taken.
+fn set_sensor_origins(views: &mut [PointCloud], labels: &[String], rule: SensorOriginArg) {
+    use rayon::prelude::*;
+    let along: Vec<Option<Vector3<f64>>> = views
+        .par_iter()
+        .map(|view| {
+            if view.origins.is_some() || rule != SensorOriginArg::Auto || view.is_empty() {
+                return None;
+            }
+            let direction = estimate_view_direction(view)?;
+            let centroid =
+                view.points.iter().map(|p| p.coords).sum::<Vector3<f64>>() / view.len() as f64;
+            let radius = view
+                .points
+                .iter()
+                .map(|p| (p.coords - centroid).norm())
+                .fold(0.0, f64::max);
+            // The frame's origin stands behind the surface the view saw, and among it: no
+            // sensor stands there. (A sensor's frame farther off is kept whatever the
+            // estimate says: the sign of a concave view's estimate can be wrong.)
+            let behind = -centroid.dot(&direction) < 0.0;
+            let among = centroid.norm() < ORIGIN_AMONG_POINTS * radius;
+            (behind && among).then_some(direction.into_inner())
+        })
+        .collect();
+    let mut behind = Vec::new();
+    for ((view, along), label) in views.iter_mut().zip(along).zip(labels) {
+        if view.origins.is_some() || rule == SensorOriginArg::Unknown {
+            continue;
+        }
+        view.origins = Some(match along {
+            Some(d) => {
+                behind.push(label.as_str());
+                view.points.iter().map(|p| p + d).collect()
+            }
+            None => vec![Point3::origin(); view.len()],
+        });
+    }
+    if !behind.is_empty() {
+        println!(
+            "sensor: {} of {} views seen along the direction estimated from their surface \
+             (their frame's origin stands behind it, among their points): {}",
+            behind.len(),
+            views.len(),
+            behind.join(", ")
+        );
+    }
 }
 
 /// The range noise of the methods that do not estimate it (p-ICP-GPA and ICP ignore it).

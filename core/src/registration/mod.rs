@@ -34,7 +34,8 @@
 //! What they share sits here: the parameters ([`RegistrationParams`]), the report, the
 //! errors, the views' k-d trees and nearest-neighbour caches, normals, Procrustes, the
 //! merge, the files of a registration of view files ([`RegistrationFiles`]) and the range
-//! noise of views that come without a sensor model ([`estimate_range_sigma`]). The
+//! noise and viewing direction of views that come without a sensor model
+//! ([`estimate_range_sigma`], [`estimate_view_direction`]). The
 //! pipeline builds each object's model with the MAP registration; it runs p-ICP-GPA and
 //! sequential ICP beside it for comparison (`[registration] baselines`).
 //!
@@ -45,6 +46,7 @@
 mod error;
 mod gpa;
 mod icp;
+mod local_planes;
 mod map;
 mod merge;
 mod nearest_cache;
@@ -55,10 +57,12 @@ mod output_files;
 mod params;
 mod procrustes;
 mod range_noise_estimate;
+mod view_direction_estimate;
 mod view_tree;
 
 pub use error::RegistrationError;
 pub use icp::align;
+pub use local_planes::NOISE_NEIGHBOURS;
 pub use map::coarse_to_fine::{COARSE_POINTS, coarse_sigmas, register_coarse_to_fine};
 pub use map::depth_image_free_space::DepthImageFreeSpace;
 pub use map::free_space::FreeSpace;
@@ -72,7 +76,8 @@ pub use outcome::{
 pub use output_files::{RegistrationFileError, RegistrationFiles};
 pub use params::{IcpParams, MapParams, Method, RegistrationParams, SetRule};
 pub use procrustes::rigid_procrustes;
-pub use range_noise_estimate::{NOISE_NEIGHBOURS, estimate_range_sigma};
+pub use range_noise_estimate::estimate_range_sigma;
+pub use view_direction_estimate::estimate_view_direction;
 
 use crate::cloud::PointCloud;
 use crate::math::Pose;

@@ -10,14 +10,8 @@
 //! radius r on a surface of radius R bends by r²/2R): it is an upper estimate on curved
 //! or sparsely sampled objects, which is the safe side for a registration's noise model.
 
-use kiddo::{ImmutableKdTree, SquaredEuclidean};
-use nalgebra::{Matrix3, Vector3};
-
+use super::local_planes::{NOISE_NEIGHBOURS, sampled_local_planes};
 use crate::cloud::PointCloud;
-use crate::math::symmetric_eigen3;
-
-/// Neighbours of each sampled point's plane.
-pub const NOISE_NEIGHBOURS: usize = 16;
 
 /// Points sampled per view.
 const SAMPLES: usize = 1000;
@@ -45,45 +39,9 @@ pub fn estimate_range_sigma(views: &[PointCloud]) -> Option<f64> {
 
 /// One view's estimate.
 fn view_sigma(view: &PointCloud) -> Option<f64> {
-    let points: Vec<[f64; 3]> = view
-        .points
+    let mut spreads: Vec<f64> = sampled_local_planes(view, SAMPLES)?
         .iter()
-        .filter(|p| p.iter().all(|c| c.is_finite()))
-        .map(|p| [p.x, p.y, p.z])
-        .collect();
-    if points.len() < NOISE_NEIGHBOURS * 2 {
-        return None;
-    }
-    let tree = ImmutableKdTree::<f64, 3>::builder()
-        .build_from_slice(&points)
-        .ok()?;
-    let k = std::num::NonZeroUsize::new(NOISE_NEIGHBOURS)?;
-    let step = points.len().div_ceil(SAMPLES).max(1);
-    let mut spreads: Vec<f64> = points
-        .iter()
-        .step_by(step)
-        .filter_map(|p| {
-            let near = tree
-                .query(p)
-                .nearest_n::<SquaredEuclidean<f64>>(k)
-                .execute();
-            let mean = near
-                .iter()
-                .map(|n| Vector3::from(points[n.item as usize]))
-                .sum::<Vector3<f64>>()
-                / near.len() as f64;
-            let cov = near
-                .iter()
-                .map(|n| {
-                    let d = Vector3::from(points[n.item as usize]) - mean;
-                    d * d.transpose()
-                })
-                .sum::<Matrix3<f64>>()
-                / near.len() as f64;
-            let (values, _) = symmetric_eigen3(&cov);
-            let smallest = values.min();
-            smallest.is_finite().then(|| smallest.max(0.0))
-        })
+        .map(|p| p.spread)
         .collect();
     let k = NOISE_NEIGHBOURS as f64;
     median(&mut spreads).map(|v| (v * k / (k - 3.0)).sqrt())
@@ -101,7 +59,7 @@ fn median(values: &mut [f64]) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::Point3;
+    use nalgebra::{Point3, Vector3};
     use proptest::prelude::*;
     use rand::SeedableRng;
     use rand_distr::{Distribution, Normal};
