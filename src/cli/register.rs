@@ -373,7 +373,8 @@ fn registration_params(
 const ORIGIN_AMONG_POINTS: f64 = 1.5;
 
 /// Gives every view without per-point sensor origins its sensor (see `--sensor-origin`),
-/// and says where the frame's origin was not taken.
+/// and says where the frame's origin was not taken. Under `auto`, where any view's frame
+/// origin stands behind its surface among its points, no frame is taken for a sensor.
 fn set_sensor_origins(views: &mut [PointCloud], labels: &[String], rule: SensorOriginArg) {
     use rayon::prelude::*;
     let along: Vec<Option<Vector3<f64>>> = views
@@ -398,23 +399,28 @@ fn set_sensor_origins(views: &mut [PointCloud], labels: &[String], rule: SensorO
             (behind && among).then_some(direction.into_inner())
         })
         .collect();
+    // One layout for all the views: where one frame is not a sensor's, none is, and a view
+    // without an estimate (or whose estimate disagrees) is left without a sensor.
+    let frames_are_sensors = along.iter().all(Option::is_none);
     let mut behind = Vec::new();
     for ((view, along), label) in views.iter_mut().zip(along).zip(labels) {
         if view.origins.is_some() || rule == SensorOriginArg::Unknown {
             continue;
         }
-        view.origins = Some(match along {
+        view.origins = match along {
             Some(d) => {
                 behind.push(label.as_str());
-                view.points.iter().map(|p| p + d).collect()
+                Some(view.points.iter().map(|p| p + d).collect())
             }
-            None => vec![Point3::origin(); view.len()],
-        });
+            None if frames_are_sensors => Some(vec![Point3::origin(); view.len()]),
+            None => None,
+        };
     }
     if !behind.is_empty() {
         println!(
             "sensor: {} of {} views seen along the direction estimated from their surface \
-             (their frame's origin stands behind it, among their points): {}",
+             (their frame's origin stands behind it, among their points), the rest without \
+             a sensor: {}",
             behind.len(),
             views.len(),
             behind.join(", ")
