@@ -33,6 +33,9 @@ import time
 import numpy as np
 import open3d as o3d
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from view_errors import point_errors  # noqa: E402
+
 REG = o3d.pipelines.registration
 
 
@@ -40,18 +43,6 @@ def load_poses(path, names):
     with open(path) as f:
         data = json.load(f)
     return [np.array(data[n], dtype=float) for n in names]
-
-
-def point_errors(points, estimated, truth):
-    """Per view RMS point displacement (m) and rotation error (degrees)."""
-    rms, rot = [], []
-    for p, e, t in zip(points, estimated, truth):
-        h = np.c_[p, np.ones(len(p))]
-        d = (h @ e.T)[:, :3] - (h @ t.T)[:, :3]
-        rms.append(float(np.sqrt((d * d).sum(axis=1).mean())))
-        r = np.linalg.inv(t)[:3, :3] @ e[:3, :3]
-        rot.append(float(np.degrees(np.arccos(np.clip((np.trace(r) - 1) / 2, -1, 1)))))
-    return rms, rot
 
 
 def cloud(points, pose):

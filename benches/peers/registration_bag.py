@@ -24,17 +24,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from stanford_scans import read_ply_vertices  # noqa: E402
-
-
-def errors(points, poses, truth):
-    rms, rot = [], []
-    for p, e, t in zip(points, poses, truth):
-        h = np.c_[p, np.ones(len(p))]
-        d = (h @ e.T)[:, :3] - (h @ t.T)[:, :3]
-        rms.append(float(np.sqrt((d * d).sum(axis=1).mean())))
-        r = np.linalg.inv(t)[:3, :3] @ e[:3, :3]
-        rot.append(float(np.degrees(np.arccos(np.clip((np.trace(r) - 1) / 2, -1, 1)))))
-    return rms, rot
+from view_errors import point_errors  # noqa: E402
 
 
 def run(cmd):
@@ -88,7 +78,7 @@ def main():
     print(f"{len(names)} views, {sum(len(p) for p in points)} points ({args.views})")
     print(f"{'input':28} {'mean err mm':>11} {'worst mm':>9} {'worst deg':>9} {'time ms':>9}")
     for label, poses, ms in [("initial poses", init, float("nan"))] + rows:
-        rms, rot = errors(points, poses, truth)
+        rms, rot = point_errors(points, poses, truth)
         print(f"{label:28} {np.mean(rms) * 1000:11.3f} {max(rms) * 1000:9.3f} {max(rot):9.3f} "
               f"{ms:9.1f}")
     a, b = rows[0][1], rows[1][1]
