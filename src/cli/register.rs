@@ -7,15 +7,14 @@
 
 use anyhow::{Context, Result, anyhow, bail};
 use clap::{Args, ValueEnum};
-use nalgebra::{Point3, Vector3};
 use nbv_core::cloud::PointCloud;
 use nbv_core::cloud::io::{CloudFormat, read_cloud_with};
 use nbv_core::math::Pose;
 use nbv_core::math::pose_file::parse_poses;
 use nbv_core::registration::{
-    Method, MethodReport, PosePrior, RangeNoise, RegistrationFiles, RegistrationParams, SetRule,
-    ViewModel, estimate_range_sigma, estimate_view_direction, register_coarse_to_fine,
-    register_with_models,
+    Method, MethodReport, PosePrior, RangeNoise, RegistrationFiles, RegistrationParams,
+    SensorOrigin, SetRule, ViewModel, assign_sensor_origins, estimate_range_sigma,
+    register_coarse_to_fine, register_with_models,
 };
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -368,64 +367,31 @@ fn registration_params(
     Ok((params, vec![model; n]))
 }
 
-/// A frame's origin within this multiple of the view's radius about its centroid stands
-/// among its points (the Stanford bunny's turntable frame: 0.98–1.18).
-const ORIGIN_AMONG_POINTS: f64 = 1.5;
-
-/// Gives every view without per-point sensor origins its sensor (see `--sensor-origin`),
-/// and says where the frame's origin was not taken. Under `auto`, where any view's frame
-/// origin stands behind its surface among its points, no frame is taken for a sensor.
+/// Gives every view without per-point sensor origins its sensor (`--sensor-origin`) and
+/// says which views were seen along their estimated direction.
 fn set_sensor_origins(views: &mut [PointCloud], labels: &[String], rule: SensorOriginArg) {
-    use rayon::prelude::*;
-    let along: Vec<Option<Vector3<f64>>> = views
-        .par_iter()
-        .map(|view| {
-            if view.origins.is_some() || rule != SensorOriginArg::Auto || view.is_empty() {
-                return None;
-            }
-            let direction = estimate_view_direction(view)?;
-            let centroid =
-                view.points.iter().map(|p| p.coords).sum::<Vector3<f64>>() / view.len() as f64;
-            let radius = view
-                .points
-                .iter()
-                .map(|p| (p.coords - centroid).norm())
-                .fold(0.0, f64::max);
-            // The frame's origin stands behind the surface the view saw, and among it: no
-            // sensor stands there. (A sensor's frame farther off is kept whatever the
-            // estimate says: the sign of a concave view's estimate can be wrong.)
-            let behind = -centroid.dot(&direction) < 0.0;
-            let among = centroid.norm() < ORIGIN_AMONG_POINTS * radius;
-            (behind && among).then_some(direction.into_inner())
-        })
-        .collect();
-    // One layout for all the views: where one frame is not a sensor's, none is, and a view
-    // without an estimate (or whose estimate disagrees) is left without a sensor.
-    let frames_are_sensors = along.iter().all(Option::is_none);
-    let mut behind = Vec::new();
-    for ((view, along), label) in views.iter_mut().zip(along).zip(labels) {
-        if view.origins.is_some() || rule == SensorOriginArg::Unknown {
-            continue;
-        }
-        view.origins = match along {
-            Some(d) => {
-                behind.push(label.as_str());
-                Some(view.points.iter().map(|p| p + d).collect())
-            }
-            None if frames_are_sensors => Some(vec![Point3::origin(); view.len()]),
-            None => None,
-        };
+    let rule = match rule {
+        SensorOriginArg::Auto => SensorOrigin::Auto,
+        SensorOriginArg::Frame => SensorOrigin::Frame,
+        SensorOriginArg::Unknown => SensorOrigin::Unknown,
+    };
+    let along = assign_sensor_origins(views, rule);
+    if along.is_empty() {
+        return;
     }
-    if !behind.is_empty() {
-        println!(
-            "sensor: {} of {} views seen along the direction estimated from their surface \
-             (their frame's origin stands behind it, among their points), the rest without \
-             a sensor: {}",
-            behind.len(),
-            views.len(),
-            behind.join(", ")
-        );
-    }
+    let rest = if along.len() < views.len() {
+        ", the rest without a sensor"
+    } else {
+        ""
+    };
+    let names: Vec<&str> = along.iter().map(|&k| labels[k].as_str()).collect();
+    println!(
+        "sensor: {} of {} views seen along the direction estimated from their surface \
+         (their frame's origin stands behind it, among their points){rest}: {}",
+        along.len(),
+        views.len(),
+        names.join(", ")
+    );
 }
 
 /// The range noise of the methods that do not estimate it (p-ICP-GPA and ICP ignore it).

@@ -34,8 +34,8 @@
 //! What they share sits here: the parameters ([`RegistrationParams`]), the report, the
 //! errors, the views' k-d trees and nearest-neighbour caches, normals, Procrustes, the
 //! merge, the files of a registration of view files ([`RegistrationFiles`]) and the range
-//! noise and viewing direction of views that come without a sensor model
-//! ([`estimate_range_sigma`], [`estimate_view_direction`]). The
+//! noise, viewing direction and sensor of views that come without a sensor model
+//! ([`estimate_range_sigma`], [`estimate_view_direction`], [`assign_sensor_origins`]). The
 //! pipeline builds each object's model with the MAP registration; it runs p-ICP-GPA and
 //! sequential ICP beside it for comparison (`[registration] baselines`).
 //!
@@ -57,6 +57,7 @@ mod output_files;
 mod params;
 mod procrustes;
 mod range_noise_estimate;
+mod sensor_origins;
 mod view_direction_estimate;
 mod view_tree;
 
@@ -77,6 +78,7 @@ pub use output_files::{RegistrationFileError, RegistrationFiles};
 pub use params::{IcpParams, MapParams, Method, RegistrationParams, SetRule};
 pub use procrustes::rigid_procrustes;
 pub use range_noise_estimate::estimate_range_sigma;
+pub use sensor_origins::{ORIGIN_AMONG_POINTS, SensorOrigin, assign_sensor_origins};
 pub use view_direction_estimate::estimate_view_direction;
 
 use crate::cloud::PointCloud;
