@@ -407,7 +407,8 @@ fn chunk_sums(
     let to_target = pt.inverse() * poses[pair.source];
     let (rotation, translation) = matrix(&to_target);
     let (pt_rotation, pt_translation) = matrix(pt);
-    // The source's sensor: it can only have seen target surfaces that face it.
+    // The source's sensor (where its rays are known): it can only have seen target
+    // surfaces that face it.
     let eye = to_target * src.centre;
     let slide = 0.25 * dst.spacing * dst.spacing;
     let plane_slack = kernel.max_distance * kernel.max_distance;
@@ -479,7 +480,10 @@ fn chunk_sums(
         } else {
             (surfel.position, surfel.normal)
         };
-        if let Some(n) = normal.filter(|_| dst.rays[j] != Vector3::zeros()) {
+        // Only where both sensors are known: without its own, the source's centre is its
+        // centroid, behind a convex view's rim, not a place it was seen from.
+        let sensors_known = dst.rays[j] != Vector3::zeros() && ray != Vector3::zeros();
+        if let Some(n) = normal.filter(|_| sensors_known) {
             let to_eye = eye - y;
             if n.dot(&to_eye) < -MIN_FACING * to_eye.norm() {
                 s.cost += pair.weight * kernel.outlier_cost();
