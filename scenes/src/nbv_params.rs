@@ -27,6 +27,7 @@ impl Nbv {
             objective: self.objective,
             cost_weight: self.cost_weight,
             object_surface: self.object_surface,
+            hull_score: self.hull_score,
             free_above_objects: self.free_above_objects,
             ..NbvParams::default()
         }

@@ -165,6 +165,7 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
                 region: &region,
                 sides: &nbv_core::nbv::SurfaceSides::of_cloud(map.reduced.geometry(), &cloud),
                 missed: &nbv_core::nbv::MissedVoxels::default(),
+                points: &cloud.points,
             }),
         )?;
         let mut rows = Vec::new();

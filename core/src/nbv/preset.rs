@@ -71,6 +71,7 @@ impl NbvPreset {
             objective: Objective::Paper,
             cost_weight: 0.0,
             object_surface: self == Self::Twin,
+            hull_score: false,
             free_above_objects: self == Self::Twin,
         }
     }

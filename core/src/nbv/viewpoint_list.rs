@@ -59,6 +59,10 @@ pub struct NbvParams {
     ///
     /// [`view_candidates`]: crate::pipeline::view_candidates
     pub object_surface: bool,
+    /// With `object_surface`, a candidate scores the unseen area of the object's convex
+    /// hull it would see ([`HullSurface`](super::HullSurface)) in place of eq. (4)'s
+    /// voxel count; false (default): eq. (4).
+    pub hull_score: bool,
     /// The planner takes the unknown space above every object phase 1 found (above the
     /// highest top of their regions, [`ExplorationMap::free_above`]) as free; false
     /// (default): every unknown voxel of M̄ is an obstacle, as in the paper.
@@ -176,6 +180,8 @@ pub struct NextBestView {
     pub frame: String,
     /// The predicted sensor's rays D and its range.
     pub rays: SensorRays,
+    /// The camera the views are taken with.
+    pub camera: DepthCameraSpec,
 }
 
 impl NextBestView {
@@ -202,6 +208,7 @@ impl NextBestView {
             params,
             frame: camera.frame.clone(),
             rays,
+            camera: camera.clone(),
         })
     }
 

@@ -7,8 +7,8 @@ use super::{AcquiredView, ExplorationMap, ExploreConfig, ObjectRegion, PipelineE
 use crate::cloud::PointCloud;
 use crate::kinematics::{IkSolution, Joints, Robot};
 use crate::nbv::{
-    Candidate, MissedVoxels, NextBestView, Objective, ScoreWeights, SurfaceSides, ViewpointList,
-    VisitedViews, apply_movement_cost, sort_best_first,
+    Candidate, HullSurface, MissedVoxels, NextBestView, Objective, ScoreWeights, SurfaceSides,
+    ViewpointList, VisitedViews, apply_movement_cost, sort_best_first,
 };
 use crate::occupancy::{GridGeometry, OccupancyGrid, ReducedMap, VoxelState};
 use crate::planning::{CollisionWorld, MotionPlanner};
@@ -67,8 +67,18 @@ pub fn view_candidates(
     )?;
     if let Some(surface) = surface {
         let geometry = reduced.geometry();
+        let hull = nbv
+            .params
+            .hull_score
+            .then(|| HullSurface::new(surface.points, surface.region.table, &map.grid))
+            .flatten();
+        let seen = seen_map.as_ref().unwrap_or(reduced);
+        let own = |v: usize| in_region(geometry, surface.region, v);
         for c in &mut list.candidates {
-            c.score = object_surface_score(c, &nbv.params.weights, geometry, &surface);
+            c.score = match &hull {
+                Some(h) => h.seen_from(&c.viewpoint.pose, &nbv.camera, seen, &own),
+                None => object_surface_score(c, &nbv.params.weights, geometry, &surface),
+            };
             c.utility = c.score;
         }
         sort_best_first(&mut list.candidates);
@@ -91,6 +101,8 @@ pub struct ObjectSurface<'a> {
     pub sides: &'a SurfaceSides,
     /// The unknown voxels missed.
     pub missed: &'a MissedVoxels,
+    /// Its points so far (world frame): the phase-1 cluster and the views.
+    pub points: &'a [Point3<f64>],
 }
 
 /// Eq. (4) over the object's surface: of the candidate's O_v, only the voxels in the

@@ -97,6 +97,12 @@ pub struct Nbv {
     /// ([`object_surface_score`](nbv_core::pipeline::object_surface_score)). Twin true,
     /// paper false (eq. (4) as printed).
     pub object_surface: bool,
+    /// With `object_surface`, a candidate scores the unseen area of the object's convex
+    /// hull (its points and their footprint on the table) it would see, facing it, at the
+    /// camera's return for the incidence, not hidden by another object
+    /// ([`HullSurface`](nbv_core::nbv::HullSurface)), in place of eq. (4)'s voxel count.
+    /// False in both presets (docs/exploration.md, "Scoring the unseen hull").
+    pub hull_score: bool,
     /// The planner takes the unknown space above every object phase 1 found (above the
     /// highest top of their regions) as free, not as an obstacle: the objects stand on the
     /// table and phase 1 saw each one's top, so nothing unknown stands higher; the known
@@ -150,6 +156,7 @@ impl Nbv {
             cost_weight: p.cost_weight,
             relative_gain: stop.relative_gain,
             object_surface: p.object_surface,
+            hull_score: p.hull_score,
             free_above_objects: p.free_above_objects,
             new_surface: stop.new_surface,
             new_surface_views: stop.new_surface_views as u32,
@@ -191,6 +198,7 @@ struct NbvKeys {
     cost_weight: Option<f64>,
     relative_gain: Option<f64>,
     object_surface: Option<bool>,
+    hull_score: Option<bool>,
     free_above_objects: Option<bool>,
     new_surface: Option<f64>,
     new_surface_views: Option<u32>,
@@ -219,6 +227,7 @@ impl From<NbvKeys> for Nbv {
             cost_weight: k.cost_weight.unwrap_or(base.cost_weight),
             relative_gain: k.relative_gain.unwrap_or(base.relative_gain),
             object_surface: k.object_surface.unwrap_or(base.object_surface),
+            hull_score: k.hull_score.unwrap_or(base.hull_score),
             free_above_objects: k.free_above_objects.unwrap_or(base.free_above_objects),
             new_surface: k.new_surface.unwrap_or(base.new_surface),
             new_surface_views: k.new_surface_views.unwrap_or(base.new_surface_views),
