@@ -3,17 +3,18 @@
 //!
 //! The object lies inside the convex hull of its points and of their footprint on the
 //! table (it stands on the table; phase 1 and the views saw its top). Samples on the hull
-//! (every ~5 mm, each carrying its share of the hull's area) are kept where the grid knows
-//! nothing yet (a voxel the sensors saw through is no surface; an occupied one is surface
-//! already seen) and more than 1 cm above the table (the report's coverage leaves the
-//! contact out). A view's score is the unseen area it would see: samples in its field of
-//! view and range, facing it, weighted by the camera's return at their incidence (full
-//! below 60°, none beyond 80°: the twin's and the Dinast's grazing ramp), and not hidden
-//! behind an occupied voxel of the map.
+//! (every ~5 mm, each carrying its share of the hull's area) are unseen where no point of
+//! the object lies within the report's coverage tolerance (1 cm) and the sensors have not
+//! seen through the sample's voxel and the voxel behind it (a bowl's opening is no
+//! surface), and more than [`TABLE_MARGIN`] above the table (the report's coverage leaves
+//! the contact out). A view's score is the unseen area it would see: samples in its field
+//! of view and range, facing it, weighted by the camera's return at their incidence (full
+//! below 60°, none beyond 80°: the twin's grazing ramp), and not hidden behind an occupied
+//! voxel of another object or obstacle (the hull's faces hide its own back).
 
 use nalgebra::{Point3, Vector3};
 
-use super::NEW_SURFACE_DISTANCE;
+use super::{NEW_SURFACE_DISTANCE, TABLE_MARGIN};
 use crate::cloud::near_mask;
 use crate::math::Pose;
 use crate::occupancy::{OccupancyGrid, ReducedMap, VoxelState};
@@ -21,9 +22,6 @@ use crate::rig::DepthCameraSpec;
 
 /// Distance between samples on the hull (m).
 const SPACING: f64 = 0.005;
-
-/// Samples nearer the table than this (m) are left out.
-const TABLE_CLEARANCE: f64 = 0.01;
 
 /// Points nearer the table than this (m) do not make the hull.
 const HULL_CLEARANCE: f64 = 0.015;
@@ -96,8 +94,9 @@ pub struct HullSurface {
 }
 
 impl HullSurface {
-    /// The samples of the hull of `points` and their footprint at `table` (when known) that
-    /// lie in unknown voxels of `grid`. `None` when the points span no volume.
+    /// The unseen samples of the hull of `points` (world frame) and their footprint at
+    /// `table` (its height, when known), read against `points` and `grid`. `None` when
+    /// the points span no volume.
     pub fn new(points: &[Point3<f64>], table: Option<f64>, grid: &OccupancyGrid) -> Option<Self> {
         // Points near the table are left out of the hull (their footprint is its base):
         // with the views' pose error the table's own points reach a few millimetres above
@@ -136,7 +135,7 @@ impl HullSurface {
             s + Vector3::new(f64::from(v.x), f64::from(v.y), f64::from(v.z))
         }) / vertices.len() as f64;
         let geometry = grid.geometry();
-        let floor = table.map_or(f64::NEG_INFINITY, |t| t + TABLE_CLEARANCE);
+        let floor = table.map_or(f64::NEG_INFINITY, |t| t + TABLE_MARGIN);
         let mut samples = Vec::new();
         for t in &triangles {
             let (a, b, c) = (vertex(t[0]), vertex(t[1]), vertex(t[2]));
@@ -195,8 +194,8 @@ impl HullSurface {
     }
 
     /// The unseen area (m²) a camera `spec` at `pose` (optical frame: z forward) would see,
-    /// each sample weighted by the return at its incidence, occlusion read on `map`'s
-    /// occupied voxels.
+    /// each sample weighted by the return at its incidence, hidden by the occupied voxels
+    /// of `map` that are not the object's `own` (linear indices).
     pub fn seen_from(
         &self,
         pose: &Pose,

@@ -142,13 +142,18 @@ impl<'a> ObjectLoop<'a> {
         let candidates = timed(&mut object.times.nbv, || -> Result<_, PipelineError> {
             let centre = viewing_centre(&object.cluster, &object.views, self.region)
                 .ok_or_else(|| PipelineError::Config(format!("object {j} has no point")))?;
-            let points: Vec<_> = object
-                .cluster
-                .points
-                .iter()
-                .chain(object.views.iter().flat_map(|v| &v.cloud.points))
-                .copied()
-                .collect();
+            // What the hull score reads (`hull_score`): everything seen of the object.
+            let points: Vec<_> = if self.nbv.params.hull_score {
+                object
+                    .cluster
+                    .points
+                    .iter()
+                    .chain(object.views.iter().flat_map(|v| &v.cloud.points))
+                    .copied()
+                    .collect()
+            } else {
+                Vec::new()
+            };
             // The arm's joints only when the movement cost reads them (a device round trip).
             let start = if self.nbv.params.cost_weight > 0.0 {
                 Some(ep.rig.arm.joints()?)
