@@ -19,6 +19,7 @@ use crate::cloud::near_mask;
 use crate::math::Pose;
 use crate::occupancy::{OccupancyGrid, ReducedMap, VoxelState};
 use crate::rig::DepthCameraSpec;
+use crate::surface::PinholeIntrinsics;
 
 /// Distance between samples on the hull (m).
 const SPACING: f64 = 0.005;
@@ -205,8 +206,7 @@ impl HullSurface {
     ) -> f64 {
         let eye = Point3::from(pose.translation.vector);
         let to_sensor = pose.rotation.inverse();
-        let f = spec.focal();
-        let (w, h) = (spec.width as f64, spec.height as f64);
+        let camera = PinholeIntrinsics::of_camera(spec);
         let geometry = map.geometry();
         let near = 1.5 * geometry.resolution();
         let cos_cut = GRAZING[1].to_radians().cos();
@@ -221,15 +221,7 @@ impl HullSurface {
             if cos <= cos_cut {
                 continue;
             }
-            let local = to_sensor * d;
-            if local.z <= 0.0 {
-                continue;
-            }
-            let (u, v) = (
-                f * local.x / local.z + 0.5 * w,
-                f * local.y / local.z + 0.5 * h,
-            );
-            if !(0.0..w).contains(&u) || !(0.0..h).contains(&v) {
+            if camera.pixel_of(&Point3::from(to_sensor * d)).is_none() {
                 continue;
             }
             let hidden = geometry

@@ -72,11 +72,10 @@ pub fn view_candidates(
             .hull_score
             .then(|| HullSurface::new(surface.points, surface.region.table, &map.grid))
             .flatten();
-        let seen = seen_map.as_ref().unwrap_or(reduced);
         let own = |v: usize| in_region(geometry, surface.region, v);
         for c in &mut list.candidates {
             c.score = match &hull {
-                Some(h) => h.seen_from(&c.viewpoint.pose, &nbv.camera, seen, &own),
+                Some(h) => h.seen_from(&c.viewpoint.pose, &nbv.camera, scored_on, &own),
                 None => object_surface_score(c, &nbv.params.weights, geometry, &surface),
             };
             c.utility = c.score;
