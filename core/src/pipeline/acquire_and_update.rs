@@ -1,9 +1,9 @@
 //! Acquire and update (Algorithm 1): a burst of depth frames at the viewpoint reached,
 //! the frame into the grid (eq. (1)–(2)), the information gain over the voxels the view
-//! was predicted to see (eq. (5)), and the object's points of the frame — cropped to its
-//! region, the table and the known obstacles taken out — and, for the registration, those
-//! of the frame smoothed ([`REGISTRATION_SMOOTHING`]) and where the camera saw empty
-//! space.
+//! was predicted to see (eq. (5)), the frame smoothed for the registration
+//! ([`REGISTRATION_SMOOTHING`]) and where the camera saw empty space; and
+//! [`object_points`], the object's points of a frame — cropped to its region, the table
+//! and the known obstacles taken out.
 
 use super::step_timer::timed;
 use super::{ExplorationMap, ExploreConfig, ObjectRegion, PipelineError, StepTimes};
@@ -37,29 +37,24 @@ pub(super) struct Observation {
     pub sensor_pose: Pose,
     /// Points in the whole frame.
     pub frame_points: usize,
-    /// The object's points of the frame.
-    pub cloud: PointCloud,
     /// The whole frame (world frame).
     pub frame: PointCloud,
     /// Where the camera saw empty space (world frame at the reported pose).
     pub free_space: DepthImageFreeSpace,
-    /// The object's points of the frame smoothed for the registration, cut as `cloud`
-    /// (`None`: the registration uses `cloud`).
-    pub registration_cloud: Option<PointCloud>,
+    /// The whole frame smoothed for the registration (`None`: the registration uses the
+    /// frame's points).
+    pub smoothed: Option<PointCloud>,
     /// Eq. (5) over the predicted voxels.
     pub gain: InformationGain,
 }
 
 /// Acquires at the arm's pose and updates `map`; `predicted` are the voxels the view was
-/// chosen for (the gain's domain), `region` and `table` what the object's points are cut
-/// to.
+/// chosen for (the gain's domain).
 pub(super) fn acquire_and_update(
     rig: &mut Rig<'_>,
     config: &ExploreConfig,
     map: &mut ExplorationMap,
     predicted: &[usize],
-    region: &ObjectRegion,
-    table: Option<&PlaneFit>,
     times: &mut StepTimes,
 ) -> Result<Observation, PipelineError> {
     let (frame, smoothed, free, free_space, joints, pose) =
@@ -90,16 +85,13 @@ pub(super) fn acquire_and_update(
         map.insert(&frame, rig.camera.spec().range[1], &free)?;
         Ok(InformationGain::between(&before, &map.grid, predicted)?)
     })?;
-    let cloud = object_points(&frame, region, table, config);
-    let registration_cloud = smoothed.map(|s| object_points(&s, region, table, config));
     Ok(Observation {
         joints,
         sensor_pose: pose,
         frame_points: frame.len(),
-        cloud,
         frame,
         free_space,
-        registration_cloud,
+        smoothed,
         gain,
     })
 }
@@ -124,7 +116,7 @@ fn camera_free_space(
 
 /// The object's points of a frame's cloud: cut to its region, the table and the known
 /// obstacles taken out.
-fn object_points(
+pub(super) fn object_points(
     frame: &PointCloud,
     region: &ObjectRegion,
     table: Option<&PlaneFit>,

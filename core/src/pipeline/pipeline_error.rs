@@ -21,6 +21,9 @@ pub enum PipelineError {
     /// Sensor data could not become a cloud.
     #[error("sensor data: {0}")]
     SensorCloud(#[from] SensorCloudError),
+    /// A view's points could not be processed (the object region's growth).
+    #[error("point cloud: {0}")]
+    Cloud(#[from] crate::cloud::ProcessingError),
     /// Phase 1 failed.
     #[error("phase 1: {0}")]
     Perception(#[from] PerceptionError),
