@@ -181,6 +181,7 @@ impl Scene {
             visited: (self.nbv.visited_min_distance, VisitedViews::default().angle),
             max_views_per_object: self.nbv.max_views_per_object as usize,
             frames_per_view: self.nbv.frames_per_view as usize,
+            return_share: self.nbv.return_share,
             depth_smoothing: self.nbv.depth_smoothing as usize,
             no_return_clearing: self.mapping.no_return_clearing,
             planner,

@@ -97,6 +97,20 @@ impl NbvPreset {
         }
     }
 
+    /// The share of a burst's frames a pixel must return in, more than which it is kept in
+    /// the averaged frame ([`average_frames`](crate::rig::average_frames)): 0.5, the
+    /// majority (paper), 0.2 (twin: two of eight frames). A surface seen at 60–80° of
+    /// incidence returns in a few frames of a burst, and the majority dropped it: on
+    /// `examples/sweeps/exploration_hull.toml`, 11 → 13 objects of 14 at 95 % of their
+    /// ceiling with the hull score (docs/exploration.md, "A burst keeps its grazing
+    /// returns").
+    pub fn return_share(self) -> f64 {
+        match self {
+            Self::Paper => 0.5,
+            Self::Twin => 0.2,
+        }
+    }
+
     /// The cap on short-range views per object: 10 (paper: it averages 5–6), 16 (twin).
     pub fn max_views_per_object(self) -> usize {
         match self {

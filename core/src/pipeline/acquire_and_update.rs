@@ -189,7 +189,7 @@ pub(super) fn capture_burst(
     } else {
         Vec::new()
     };
-    let frame = average_frames(&frames)?;
+    let frame = average_frames(&frames, config.return_share)?;
     let noise = config.uncertainty.camera_noise.averaged(n);
     let frame = smooth_frame(frame, config.depth_smoothing, |z| noise.sigma(z));
     Ok((frame, no_return))

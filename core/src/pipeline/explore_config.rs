@@ -62,6 +62,9 @@ pub struct ExploreConfig {
     pub visited: (f64, f64),
     /// Depth frames captured and averaged at each viewpoint (1: a single frame).
     pub frames_per_view: usize,
+    /// A pixel of the averaged frame is kept where more than this share of the burst's
+    /// frames returned ([`average_frames`](crate::rig::average_frames)), in [0, 1).
+    pub return_share: f64,
     /// Half-width (pixels) of the plane fit that smooths each averaged frame
     /// ([`smooth_frame`](crate::rig::smooth_frame)); 0 leaves it as averaged.
     pub depth_smoothing: usize,

@@ -1,5 +1,5 @@
 //! [`average_frames`]: one depth frame from several taken at the same pose — the
-//! per-pixel mean of the valid returns, where most of them are valid.
+//! per-pixel mean of the valid returns, where enough of them are valid.
 //!
 //! A time-of-flight camera held still is averaged over a burst of frames to bring its
 //! range noise down by `√n` (the Dinast IPA-1110 streams at 30 Hz, so eight frames cost a
@@ -8,23 +8,25 @@
 use super::{DepthFrame, RigError};
 
 /// The frame whose pixels are the means of the valid depths of `frames` (NaN where at
-/// most half of them are valid), stamped with the mean exposure time. A pixel's truth
+/// most `share` of them are valid, or none), stamped with the mean exposure time. A pixel's truth
 /// (when every frame carries truth) is the first frame's that has one: the pose and the
 /// scene are the same for the whole burst. Every frame must have the first one's size.
 ///
 /// ```
 /// use nbv_core::rig::{DepthFrame, average_frames};
 /// let frame = |time, depth: Vec<f32>| DepthFrame { time, width: 2, height: 1, depth, truth: None };
-/// let avg = average_frames(&[
+/// let burst = [
 ///     frame(0.0, vec![0.50, f32::NAN]),
 ///     frame(1.0, vec![0.52, f32::NAN]),
 ///     frame(2.0, vec![f32::NAN, 0.3]),
-/// ]).unwrap();
-/// assert!((avg.depth[0] - 0.51).abs() < 1e-6); // two valid of three: their mean
-/// assert!(avg.depth[1].is_nan());              // one valid of three: invalid
+/// ];
+/// let avg = average_frames(&burst, 0.5).unwrap(); // more than half
+/// assert!((avg.depth[0] - 0.51).abs() < 1e-6);    // two valid of three: their mean
+/// assert!(avg.depth[1].is_nan());                 // one valid of three: invalid
 /// assert_eq!(avg.time, 1.0);
+/// assert_eq!(average_frames(&burst, 0.2).unwrap().depth[1], 0.3); // more than a fifth
 /// ```
-pub fn average_frames(frames: &[DepthFrame]) -> Result<DepthFrame, RigError> {
+pub fn average_frames(frames: &[DepthFrame], share: f64) -> Result<DepthFrame, RigError> {
     let Some(first) = frames.first() else {
         return Err(RigError::State {
             device: "depth camera".into(),
@@ -50,7 +52,7 @@ pub fn average_frames(frames: &[DepthFrame]) -> Result<DepthFrame, RigError> {
                 .map(|f| f64::from(f.depth[i]))
                 .filter(|d| d.is_finite())
                 .fold((0.0, 0usize), |(s, c), d| (s + d, c + 1));
-            if 2 * valid > n {
+            if valid > 0 && valid as f64 > share * n as f64 {
                 (sum / valid as f64) as f32
             } else {
                 f32::NAN

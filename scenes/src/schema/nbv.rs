@@ -71,6 +71,10 @@ pub struct Nbv {
     /// camera's range noise falls by the square root. Default 8 (a quarter of a second at
     /// 30 Hz); 1 takes a single frame.
     pub frames_per_view: u32,
+    /// A pixel of a burst's averaged frame is kept where more than this share of the
+    /// frames returned, in [0, 1). Twin 0.2 (two of eight: a surface seen at a grazing
+    /// angle returns in a few frames), paper 0.5 (the majority).
+    pub return_share: f64,
     /// Half-width (pixels) of the edge-gated plane fit that smooths each averaged depth
     /// frame before it is used ([`smooth_frame`](nbv_core::rig::smooth_frame), which says
     /// why). Default 0 (the averaged frame as it is). 2 (a 5 × 5 window) lowers the
@@ -151,6 +155,7 @@ impl Nbv {
             visited_min_distance: VisitedViews::default().distance,
             max_views_per_object: preset.max_views_per_object() as u32,
             frames_per_view: 8,
+            return_share: preset.return_share(),
             depth_smoothing: 0,
             objective: p.objective,
             cost_weight: p.cost_weight,
@@ -193,6 +198,7 @@ struct NbvKeys {
     visited_min_distance: Option<f64>,
     max_views_per_object: Option<u32>,
     frames_per_view: Option<u32>,
+    return_share: Option<f64>,
     depth_smoothing: Option<u32>,
     objective: Option<Objective>,
     cost_weight: Option<f64>,
@@ -222,6 +228,7 @@ impl From<NbvKeys> for Nbv {
             visited_min_distance: k.visited_min_distance.unwrap_or(base.visited_min_distance),
             max_views_per_object: k.max_views_per_object.unwrap_or(base.max_views_per_object),
             frames_per_view: k.frames_per_view.unwrap_or(base.frames_per_view),
+            return_share: k.return_share.unwrap_or(base.return_share),
             depth_smoothing: k.depth_smoothing.unwrap_or(base.depth_smoothing),
             objective: k.objective.unwrap_or(base.objective),
             cost_weight: k.cost_weight.unwrap_or(base.cost_weight),
@@ -300,6 +307,13 @@ impl Nbv {
             1,
         )?;
         c.at_least("nbv.frames_per_view", self.frames_per_view.into(), 1)?;
+        c.within(
+            "nbv.return_share",
+            self.return_share,
+            0.0,
+            1.0 - f64::EPSILON,
+            "[0, 1)",
+        )?;
         c.within(
             "nbv.depth_smoothing",
             self.depth_smoothing.into(),
