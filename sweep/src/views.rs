@@ -153,7 +153,9 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
         // The pipeline's own candidate step, as for the object's first view.
         let region = regions[j];
         let centre = viewing_centre(&cloud, &[], &region).context("an empty cluster")?;
-        let ViewCandidates { mut planner, list } = view_candidates(
+        let ViewCandidates {
+            mut planner, list, ..
+        } = view_candidates(
             &robot,
             &config,
             &nbv,
@@ -166,6 +168,7 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
                 sides: &nbv_core::nbv::SurfaceSides::of_cloud(map.reduced.geometry(), &cloud),
                 missed: &nbv_core::nbv::MissedVoxels::default(),
                 points: &cloud.points,
+                free_space: &[],
             }),
         )?;
         let mut rows = Vec::new();

@@ -82,6 +82,8 @@ fn dense_cells(points: &[Point3<f64>]) -> Vec<Point3<f64>> {
 /// // below the top the laser covers: about 4 × 0.1 × 0.08 m² (the corners' sparse
 /// // cells left out).
 /// assert!((hull.area() - 0.031).abs() < 0.002);
+/// // The whole hull above the table's 1 cm: the top and the four sides.
+/// assert!((hull.total_area() - 0.043).abs() < 0.002);
 /// // A camera 0.35 m in front of one side sees that side, and none of the others.
 /// let pose = Isometry3::face_towards(&Point3::new(0.4, 0.0, 0.05), &Point3::new(0.0, 0.0, 0.05), &Vector3::z());
 /// let seen = hull.seen_from(&pose, &DepthCameraSpec::ipa1110(), &ReducedMap::from_grid(&grid), &|_| false);
@@ -92,6 +94,8 @@ fn dense_cells(points: &[Point3<f64>]) -> Vec<Point3<f64>> {
 pub struct HullSurface {
     /// Position, outward unit normal and area (m²) of each sample.
     samples: Vec<(Point3<f64>, Vector3<f64>, f64)>,
+    /// The hull's area (m²) above the table's margin, seen or not.
+    total: f64,
 }
 
 impl HullSurface {
@@ -138,6 +142,7 @@ impl HullSurface {
         let geometry = grid.geometry();
         let floor = table.map_or(f64::NEG_INFINITY, |t| t + TABLE_MARGIN);
         let mut samples = Vec::new();
+        let mut total = 0.0;
         for t in &triangles {
             let (a, b, c) = (vertex(t[0]), vertex(t[1]), vertex(t[2]));
             let cross = (b - a).cross(&(c - a));
@@ -163,6 +168,7 @@ impl HullSurface {
                     if p.z < floor {
                         continue;
                     }
+                    total += share;
                     // Seen through: empty at the sample and a voxel deeper (a 2 cm voxel
                     // the surface crosses is often empty in front of it).
                     let empty = |q: &Point3<f64>| {
@@ -186,12 +192,30 @@ impl HullSurface {
             .filter(|(_, seen)| !seen)
             .map(|(s, _)| s)
             .collect();
-        Some(Self { samples })
+        Some(Self { samples, total })
+    }
+
+    /// The hull without the samples a view saw through: where a camera saw empty space
+    /// (`free`, e.g. [`DepthImageFreeSpace::contains`]) 1 cm — the report's coverage
+    /// tolerance — inside the hull, the object's surface lies farther in than that, and
+    /// that part of the hull is no surface to look for (a bowl's opening, the gap under a
+    /// jug's handle). Sharper than the grid's 2 cm voxels, which a rim or a handle fills.
+    ///
+    /// [`DepthImageFreeSpace::contains`]: crate::registration::DepthImageFreeSpace::contains
+    pub fn without_seen_through(mut self, free: impl Fn(&Point3<f64>) -> bool) -> Self {
+        self.samples
+            .retain(|(p, n, _)| !free(&(p - n * NEW_SURFACE_DISTANCE)));
+        self
     }
 
     /// The unseen area (m²) left on the hull.
     pub fn area(&self) -> f64 {
         self.samples.iter().map(|s| s.2).sum()
+    }
+
+    /// The hull's area (m²) above the table's margin, seen or not.
+    pub fn total_area(&self) -> f64 {
+        self.total
     }
 
     /// The unseen area (m²) a camera `spec` at `pose` (optical frame: z forward) would see,
@@ -283,6 +307,28 @@ mod tests {
             log_odds[grid.geometry().linear(v).unwrap()] = value;
         }
         OccupancyGrid::from_log_odds(*grid.geometry(), *grid.params(), log_odds).unwrap()
+    }
+
+    #[test]
+    fn space_seen_through_one_centimetre_inside_the_hull_is_no_surface() {
+        let (points, grid, _) = cube();
+        let hull = HullSurface::new(&points, Some(0.0), &grid).unwrap();
+        let full = hull.area();
+        // A camera saw empty space in the upper half of the cube: the sides' upper halves
+        // (tested 1 cm inside) go, their lower halves stay.
+        let half = hull.clone().without_seen_through(|q| q.z > 0.05).area();
+        assert!((0.3 * full..0.7 * full).contains(&half), "{full} → {half}");
+        // Seen empty 1 cm inside a side only where the side lies 1 cm off the object: a
+        // free space ending 5 mm inside every side keeps them (but for their edges, where
+        // 1 cm inside one side is within 5 mm of the next).
+        let shell = |q: &Point3<f64>| q.x.abs().max(q.y.abs()) > 0.045;
+        let kept = hull.clone().without_seen_through(shell).area();
+        assert!(kept > 0.95 * full, "{full} → {kept}");
+        assert_eq!(hull.clone().without_seen_through(|_| true).area(), 0.0);
+        assert_eq!(
+            hull.total_area(),
+            hull.without_seen_through(|_| true).total_area()
+        );
     }
 
     #[test]

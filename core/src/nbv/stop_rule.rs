@@ -28,6 +28,14 @@ pub enum StopReason {
         /// The ratio.
         ratio: f64,
     },
+    /// The best candidate would see less of the object's unseen hull than the
+    /// new-surface threshold's share of the hull ([`HullSurface`](super::HullSurface)).
+    NoUnseenHull {
+        /// The best candidate's unseen area as a share of the hull's area.
+        share: f64,
+        /// The threshold.
+        threshold: f64,
+    },
     /// The latest views each added less new surface than the threshold
     /// ([`SurfaceSides`](super::SurfaceSides)).
     NoNewSurface {
@@ -168,6 +176,26 @@ impl StopRule {
                 threshold: self.new_surface,
                 views: k,
             })
+    }
+
+    /// The new-surface rule on what the best candidate would see, with the hull score:
+    /// `unseen` is its unseen hull area, `hull` the hull's area (both m²). Off at a
+    /// threshold of 0 or without a hull.
+    ///
+    /// ```
+    /// use nbv_core::nbv::{StopReason, StopRule};
+    /// let rule = StopRule { new_surface: 0.005, ..StopRule::default() };
+    /// assert_eq!(rule.check_unseen_hull(0.0002, 0.03), None); // 0.7 % of the hull
+    /// assert!(matches!(rule.check_unseen_hull(0.0001, 0.03), Some(StopReason::NoUnseenHull { .. })));
+    /// assert_eq!(rule.check_unseen_hull(0.0, 0.0), None);
+    /// ```
+    pub fn check_unseen_hull(&self, unseen: f64, hull: f64) -> Option<StopReason> {
+        (self.new_surface > 0.0 && hull > 0.0 && unseen < self.new_surface * hull).then_some(
+            StopReason::NoUnseenHull {
+                share: unseen / hull,
+                threshold: self.new_surface,
+            },
+        )
     }
 
     /// The relative-gain rule: `best` is the best candidate's objective value now, `first`

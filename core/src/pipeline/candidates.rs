@@ -12,6 +12,7 @@ use crate::nbv::{
 };
 use crate::occupancy::{GridGeometry, OccupancyGrid, ReducedMap, VoxelState};
 use crate::planning::{CollisionWorld, MotionPlanner};
+use crate::registration::DepthImageFreeSpace;
 use nalgebra::Point3;
 
 /// The viewpoints to try next, and the planner to reach them with.
@@ -20,6 +21,8 @@ pub struct ViewCandidates {
     pub planner: MotionPlanner,
     /// The candidates, best first.
     pub list: ViewpointList,
+    /// The area (m²) of the object's hull, when the hull scores the candidates.
+    pub hull_area: Option<f64>,
 }
 
 /// Algorithm 2 around `centre` on `map`: the viewpoints not yet `visited`, scored by the
@@ -65,13 +68,16 @@ pub fn view_candidates(
         visited,
         &usable,
     )?;
+    let mut hull_area = None;
     if let Some(surface) = surface {
         let geometry = reduced.geometry();
         let hull = nbv
             .params
             .hull_score
             .then(|| HullSurface::new(surface.points, surface.region.table, &map.grid))
-            .flatten();
+            .flatten()
+            .map(|h| h.without_seen_through(|q| surface.free_space.iter().any(|f| f.contains(q))));
+        hull_area = hull.as_ref().map(HullSurface::total_area);
         let own = |v: usize| in_region(geometry, surface.region, v);
         for c in &mut list.candidates {
             c.score = match &hull {
@@ -87,7 +93,11 @@ pub fn view_candidates(
     {
         apply_movement_cost(&mut list.candidates, start, nbv.params.cost_weight);
     }
-    Ok(ViewCandidates { planner, list })
+    Ok(ViewCandidates {
+        planner,
+        list,
+        hull_area,
+    })
 }
 
 /// What is known of the surface of the object being explored: its region, the sides its
@@ -102,6 +112,8 @@ pub struct ObjectSurface<'a> {
     pub missed: &'a MissedVoxels,
     /// Its points so far (world frame): the phase-1 cluster and the views.
     pub points: &'a [Point3<f64>],
+    /// Where its views saw empty space.
+    pub free_space: &'a [DepthImageFreeSpace],
 }
 
 /// Eq. (4) over the object's surface: of the candidate's O_v, only the voxels in the

@@ -15,8 +15,8 @@ use super::{
 use crate::cloud::{PlaneFit, PointCloud};
 use crate::math::Pose;
 use crate::nbv::{
-    Candidate, InformationGain, MissedVoxels, NextBestView, StopReason, SurfaceSides,
-    ViewpointList, VisitedViews, lazy_best, movement_cost_total, new_surface_share,
+    Candidate, InformationGain, MissedVoxels, NextBestView, StopReason, SurfaceSides, VisitedViews,
+    lazy_best, movement_cost_total, new_surface_share,
 };
 use crate::planning::PlannedPath;
 use crate::rig::RigError;
@@ -42,7 +42,7 @@ pub(super) fn explore_object(
             break stop;
         }
         let candidates = state.sample(ep, map, object)?;
-        if let Some(stop) = state.stop_on_candidates(ep.config, &candidates.list) {
+        if let Some(stop) = state.stop_on_candidates(ep.config, &candidates) {
             break stop;
         }
         match state.take_view(ep, map, object, candidates)? {
@@ -148,17 +148,21 @@ impl<'a> ObjectLoop<'a> {
         let candidates = timed(&mut object.times.nbv, || -> Result<_, PipelineError> {
             let centre = viewing_centre(&object.cluster, &object.views, &self.region)
                 .ok_or_else(|| PipelineError::Config(format!("object {j} has no point")))?;
-            // What the hull score reads (`hull_score`): everything seen of the object.
-            let points: Vec<_> = if self.nbv.params.hull_score {
-                object
-                    .cluster
-                    .points
-                    .iter()
-                    .chain(object.views.iter().flat_map(|v| &v.cloud.points))
-                    .copied()
-                    .collect()
+            // What the hull score reads (`hull_score`): everything seen of the object, and
+            // where its views saw through.
+            let (points, free_space): (Vec<_>, Vec<_>) = if self.nbv.params.hull_score {
+                (
+                    object
+                        .cluster
+                        .points
+                        .iter()
+                        .chain(object.views.iter().flat_map(|v| &v.cloud.points))
+                        .copied()
+                        .collect(),
+                    object.views.iter().map(|v| v.free_space.clone()).collect(),
+                )
             } else {
-                Vec::new()
+                (Vec::new(), Vec::new())
             };
             // The arm's joints only when the movement cost reads them (a device round trip).
             let start = if self.nbv.params.cost_weight > 0.0 {
@@ -179,6 +183,7 @@ impl<'a> ObjectLoop<'a> {
                     sides: &self.sides,
                     missed: &self.missed,
                     points: &points,
+                    free_space: &free_space,
                 }),
             )
         })?;
@@ -193,12 +198,14 @@ impl<'a> ObjectLoop<'a> {
     }
 
     /// The stops checked on a round's candidates: the rule on the latest gain and the
-    /// number of candidates, then the best score against the first round's.
+    /// number of candidates, the unseen hull the best would see (with the hull score),
+    /// then the best score against the first round's.
     fn stop_on_candidates(
         &mut self,
         config: &ExploreConfig,
-        list: &ViewpointList,
+        candidates: &ViewCandidates,
     ) -> Option<ObjectStop> {
+        let list = &candidates.list;
         if let Some(reason) = config
             .stop
             .check(self.latest_gain.as_ref(), list.candidates.len())
@@ -210,6 +217,12 @@ impl<'a> ObjectLoop<'a> {
             .iter()
             .map(|c| c.score)
             .fold(f64::NEG_INFINITY, f64::max);
+        if let Some(hull) = candidates.hull_area
+            && self.latest_gain.is_some()
+            && let Some(reason) = config.stop.check_unseen_hull(best, hull)
+        {
+            return Some(ObjectStop::Rule(reason));
+        }
         match self.first_best {
             None => {
                 self.first_best = Some(best);
@@ -234,6 +247,7 @@ impl<'a> ObjectLoop<'a> {
         let ViewCandidates {
             mut planner,
             mut list,
+            ..
         } = candidates;
         // The movement cost's normaliser Σc, fixed for the round (see `lazy_best`).
         let lambda = self.nbv.params.cost_weight;

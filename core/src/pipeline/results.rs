@@ -177,6 +177,12 @@ impl std::fmt::Display for ObjectStop {
                 100.0 * threshold,
                 100.0 * share
             ),
+            Self::Rule(StopReason::NoUnseenHull { share, threshold }) => write!(
+                f,
+                "the best view would see less than {:.1} % of the hull unseen ({:.2} %)",
+                100.0 * threshold,
+                100.0 * share
+            ),
             Self::Rule(StopReason::RelativeGain { gain, first, ratio }) => write!(
                 f,
                 "best candidate's gain {gain:.3} below {ratio} of the first round's {first:.3}"

@@ -99,19 +99,21 @@ mod tests {
 
     proptest! {
         /// Each pixel of the average lies between the smallest and largest valid depth of
-        /// the burst, and is valid exactly when most of the burst is.
+        /// the burst, and is valid exactly when more than `share` of the burst is.
         #[test]
         fn the_mean_lies_within_the_valid_depths(
-            burst in prop::collection::vec(prop::collection::vec(prop::option::of(0.1f32..0.8), 4), 1..9)
+            burst in prop::collection::vec(prop::collection::vec(prop::option::of(0.1f32..0.8), 4), 1..9),
+            share in prop::sample::select(vec![0.0, 0.2, 0.5, 0.9]),
         ) {
             let frames: Vec<DepthFrame> = burst
                 .iter()
                 .map(|f| frame(f.iter().map(|d| d.unwrap_or(f32::NAN)).collect()))
                 .collect();
-            let avg = average_frames(&frames).unwrap();
+            let avg = average_frames(&frames, share).unwrap();
             for (i, &d) in avg.depth.iter().enumerate() {
                 let valid: Vec<f32> = burst.iter().filter_map(|f| f[i]).collect();
-                prop_assert_eq!(d.is_finite(), 2 * valid.len() > burst.len());
+                let kept = !valid.is_empty() && valid.len() as f64 > share * burst.len() as f64;
+                prop_assert_eq!(d.is_finite(), kept);
                 if d.is_finite() {
                     let lo = valid.iter().copied().fold(f32::INFINITY, f32::min);
                     let hi = valid.iter().copied().fold(f32::NEG_INFINITY, f32::max);
@@ -123,8 +125,8 @@ mod tests {
 
     #[test]
     fn bursts_of_mixed_sizes_and_empty_bursts_are_errors() {
-        assert!(average_frames(&[]).is_err());
-        let e = average_frames(&[frame(vec![0.5; 2]), frame(vec![0.5; 3])]).unwrap_err();
+        assert!(average_frames(&[], 0.5).is_err());
+        let e = average_frames(&[frame(vec![0.5; 2]), frame(vec![0.5; 3])], 0.5).unwrap_err();
         assert!(e.to_string().contains("different sizes"), "{e}");
     }
 }
