@@ -357,11 +357,18 @@ impl<'a> ObjectLoop<'a> {
         if self.nbv.params.object_surface {
             self.grow_region(ep, object.index, &seen.frame)?;
         }
-        let cloud = object_points(&seen.frame, &self.region, self.table, config);
+        // With the object's surface, the table each view sees (its pose error moves it).
+        let view_table = if self.nbv.params.object_surface {
+            self.region.view_table(&seen.frame.points, REGION_REACH)
+        } else {
+            None
+        };
+        let table = view_table.as_ref().or(self.table);
+        let cloud = object_points(&seen.frame, &self.region, table, config);
         let registration_cloud = seen
             .smoothed
             .as_ref()
-            .map(|s| object_points(s, &self.region, self.table, config));
+            .map(|s| object_points(s, &self.region, table, config));
         let table_seen = timed(&mut object.times.registration, || {
             table_evidence(
                 &seen.frame,
