@@ -290,6 +290,24 @@ mod tests {
         assert_eq!(r.viewing_centre(&c), c);
     }
 
+    /// Grows `r` over `points` linked at 1.5 cm with a 1 cm margin, outside `blocked`.
+    fn grow(
+        r: &mut ObjectRegion,
+        points: &[Point3<f64>],
+        reach: f64,
+        blocked: impl Fn(&Point3<f64>) -> bool,
+    ) -> bool {
+        r.grow(
+            &PointCloud::from_points(points.to_vec()),
+            0.015,
+            reach,
+            0.01,
+            None,
+            blocked,
+        )
+        .unwrap()
+    }
+
     fn box_region() -> ObjectRegion {
         ObjectRegion::around(
             Point3::new(0.0, 0.0, 0.26),
@@ -328,17 +346,7 @@ mod tests {
         let mut r = box_region();
         let mut seen = line(0.0, 0.06, 0.28);
         seen.extend(table(0.1));
-        assert!(
-            !r.grow(
-                &PointCloud::from_points(seen.clone()),
-                0.015,
-                0.1,
-                0.01,
-                None,
-                |_| false
-            )
-            .unwrap()
-        );
+        assert!(!grow(&mut r, &seen, 0.1, |_| false));
         assert_eq!(r, box_region());
         // The object's points going on past the box, but into another object's region.
         let other = ObjectRegion::around(
@@ -348,55 +356,15 @@ mod tests {
             Some(0.25),
         );
         let seen = line(0.0, 0.2, 0.28);
-        assert!(
-            !r.grow(
-                &PointCloud::from_points(seen.clone()),
-                0.015,
-                0.1,
-                0.01,
-                None,
-                |p| other.contains(p)
-            )
-            .unwrap()
-        );
+        assert!(!grow(&mut r, &seen, 0.1, |p| other.contains(p)));
         // Unblocked, it grows by at most the reach per call.
-        assert!(
-            r.grow(
-                &PointCloud::from_points(seen.clone()),
-                0.015,
-                0.06,
-                0.01,
-                None,
-                |_| false
-            )
-            .unwrap()
-        );
+        assert!(grow(&mut r, &seen, 0.06, |_| false));
         assert!((r.max.x - (0.07 + 0.06 + 0.01)).abs() < 1e-9);
-        assert!(
-            r.grow(
-                &PointCloud::from_points(seen.clone()),
-                0.015,
-                0.06,
-                0.01,
-                None,
-                |_| false
-            )
-            .unwrap()
-        );
+        assert!(grow(&mut r, &seen, 0.06, |_| false));
         assert!((r.max.x - 0.21).abs() < 1e-9);
         // Fewer than ten points past it are strays.
         let mut r = box_region();
-        assert!(
-            !r.grow(
-                &PointCloud::from_points(line(0.0, 0.11, 0.28)),
-                0.015,
-                0.1,
-                0.01,
-                None,
-                |_| false
-            )
-            .unwrap()
-        );
+        assert!(!grow(&mut r, &line(0.0, 0.11, 0.28), 0.1, |_| false));
     }
 
     #[test]
@@ -442,17 +410,7 @@ mod tests {
             .map(|i| Point3::new(0.03, 0.02, 0.3 + 0.005 * i as f64))
             .collect();
         let max_z = r.max.z;
-        assert!(
-            r.grow(
-                &PointCloud::from_points(seen.clone()),
-                0.015,
-                0.1,
-                0.01,
-                None,
-                |_| false
-            )
-            .unwrap()
-        );
+        assert!(grow(&mut r, &seen, 0.1, |_| false));
         assert!((r.top - 0.38).abs() < 1e-9);
         assert!(r.max.z >= max_z && r.max.z >= 0.39 - 1e-9);
         assert_eq!((r.min.x, r.max.x), (box_region().min.x, box_region().max.x));
