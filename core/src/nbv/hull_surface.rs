@@ -99,6 +99,12 @@ pub struct HullSurface {
 }
 
 impl HullSurface {
+    /// Height (m) above the table an object must rise to, as the laser saw it, for its
+    /// hull to stand for it: twice the 1.5 cm left out of the hull at the table. A flatter
+    /// object (a spatula lying on the table) leaves a hull of a few millimetres with no
+    /// unseen area, and is scored without it.
+    pub const FLAT_HEIGHT: f64 = 2.0 * HULL_CLEARANCE;
+
     /// The unseen samples of the hull of `points` (world frame) and their footprint at
     /// `table` (its height, when known), read against `points` and `grid`. `None` when
     /// the points span no volume.

@@ -71,10 +71,12 @@ pub fn view_candidates(
     let mut hull_area = None;
     if let Some(surface) = surface {
         let geometry = reduced.geometry();
-        let hull = nbv
-            .params
-            .hull_score
-            .then(|| HullSurface::new(surface.points, surface.region.table, &map.grid))
+        let region = surface.region;
+        let flat = region
+            .table
+            .is_some_and(|t| region.top - t < HullSurface::FLAT_HEIGHT);
+        let hull = (nbv.params.hull_score && !flat)
+            .then(|| HullSurface::new(surface.points, region.table, &map.grid))
             .flatten()
             .map(|h| h.without_seen_through(|q| surface.free_space.iter().any(|f| f.contains(q))));
         hull_area = hull.as_ref().map(HullSurface::total_area);
