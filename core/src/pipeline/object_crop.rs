@@ -258,6 +258,7 @@ impl ObjectRegion {
         if band.len() < 3 {
             return None;
         }
+        let band = PointCloud::from_points(band);
         let ransac = PlaneRansac {
             distance_threshold: 0.004,
             iterations: 200,
@@ -266,7 +267,7 @@ impl ObjectRegion {
         };
         // No plane in degenerate points (all on a line).
         ransac
-            .fit(&PointCloud::from_points(band.clone()))
+            .fit(&band)
             .ok()
             .filter(|fit| 3 * fit.inliers.len() >= band.len())
     }
