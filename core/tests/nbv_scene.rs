@@ -9,7 +9,8 @@ use nbv_core::cloud::PointCloud;
 use nbv_core::nbv::SensorRays;
 use nbv_core::nbv::{
     GainMeasure, InformationGain, NbvParams, NbvPreset, NextBestView, StopReason, StopRule,
-    VisitedViews, first_hit, view_pose, view_pose_rolled, visible_voxels, visible_voxels_literal,
+    ViewSphere, VisitedViews, first_hit, view_pose, view_pose_rolled, visible_voxels,
+    visible_voxels_literal,
 };
 use nbv_core::occupancy::{ReducedMap, VoxelState, probability};
 use support::scene;
@@ -313,4 +314,45 @@ fn information_gain_of_a_simulated_view() {
     let again = InformationGain::between(&after, &twice, &observed).unwrap();
     assert!(again.bernoulli_kl < gain.bernoulli_kl, "{again:?}");
     assert!(again.freed < gain.freed);
+}
+
+#[test]
+fn near_radius_takes_samples_out_of_reach_at_the_radius() {
+    let robot = scene::robot();
+    // An object near the arm's reach: the far side of a 0.45 m sphere lies beyond it.
+    let edge = Point3::new(1.1, -0.5, 0.3);
+    let sphere = |near_radius| NbvParams {
+        sphere: ViewSphere {
+            radius: 0.45,
+            near_radius,
+            ..scene::paper_nbv().sphere
+        },
+        ..scene::paper_nbv()
+    };
+    let visited = VisitedViews::default();
+    let without = nbv(sphere(0.0))
+        .viewpoints(&robot, &edge, &visited)
+        .unwrap();
+    let with = nbv(sphere(0.3))
+        .viewpoints(&robot, &edge, &visited)
+        .unwrap();
+    assert!(without.unreachable > 0, "{}", without.unreachable);
+    // Every sample kept at the radius is kept as it was; the rest, where reachable, at
+    // the near radius, and only there.
+    assert!(with.viewpoints.len() > without.viewpoints.len());
+    assert_eq!(
+        with.viewpoints.len() + with.unreachable,
+        without.viewpoints.len() + without.unreachable
+    );
+    for v in &with.viewpoints {
+        let at = (Point3::from(v.pose.translation.vector) - edge).norm();
+        let far = view_pose(&edge, 0.45, v.sample.theta, v.sample.phi);
+        let far_reachable = without.viewpoints.iter().any(|w| w.sample == v.sample);
+        if far_reachable {
+            assert!((at - 0.45).abs() < 1e-9, "{at}");
+        } else {
+            assert!((at - 0.3).abs() < 1e-9, "{at}");
+            assert!(!robot.reachable("dinast", &far).unwrap());
+        }
+    }
 }

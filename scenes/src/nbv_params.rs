@@ -17,6 +17,7 @@ impl Nbv {
                 delta_theta: self.dtheta_deg.to_radians(),
                 theta_max: self.theta_max_deg.to_radians(),
                 delta_phi: self.dphi_deg.to_radians(),
+                near_radius: self.near_radius,
             },
             weights: ScoreWeights {
                 unknown: self.alpha_u,

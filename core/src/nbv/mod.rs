@@ -53,7 +53,9 @@ pub use hull_surface::HullSurface;
 pub use information_gain::InformationGain;
 pub use missed_voxels::MissedVoxels;
 pub use nbv_error::NbvError;
-pub use new_surface::{NEW_SURFACE_CELL, NEW_SURFACE_DISTANCE, TABLE_MARGIN, new_surface_share};
+pub use new_surface::{
+    NEW_SURFACE_CELL, NEW_SURFACE_DISTANCE, TABLE_MARGIN, new_surface_share, settled_onto,
+};
 pub use objectives::{
     AreaRay, GainMap, Objective, RayVoxel, Visibility, VoxelClass, apply_movement_cost,
     area_factor_ray, area_factor_view, average_entropy_ray, average_entropy_view, cast_ray,

@@ -10,13 +10,23 @@
 //! taken at 5 mm cells (a density-free count of area), and a cell within 1 cm of the table
 //! plane is not counted.
 //!
+//! A view lies where its pose error put it, up to a centimetre or two from the earlier
+//! views, and the part of it that moved farther than 1 cm counted as new: on a bowl the
+//! laser had covered, 0.7–1.9 % per view, over the stop's 0.5 %, for five views.
+//! [`settled_onto`] moves the view onto the earlier points by the translation that lays
+//! it on them best before it is counted. Translation only: a rotation lets a view of a
+//! surface of revolution (a bottle) turn onto the side already seen, and its new side
+//! counted as nothing.
+//!
 //! [`StopRule::new_surface`]: super::StopRule::new_surface
 
 use std::collections::HashSet;
 
-use nalgebra::Point3;
+use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use nalgebra::{Matrix3, Point3, Vector3};
 
-use crate::cloud::{PlaneFit, nearest_distances};
+use crate::cloud::{PlaneFit, PointCloud, nearest_distances};
+use crate::registration::estimate_normals;
 
 /// The side of the cells surface is counted in (m).
 pub const NEW_SURFACE_CELL: f64 = 0.005;
@@ -87,6 +97,81 @@ pub fn new_surface_share(
     new as f64 / before.max(1) as f64
 }
 
+/// Pairs farther apart than this (m) do not pull a view in [`settled_onto`]: beyond the
+/// views' pose error at three times the scenes' errors.
+const SETTLE_DISTANCE: f64 = 0.03;
+
+/// Neighbours of the model's PCA normals in [`settled_onto`].
+const SETTLE_NEIGHBOURS: usize = 10;
+
+/// Iterations of [`settled_onto`].
+const SETTLE_ITERATIONS: usize = 10;
+
+/// `view` moved onto `model` by the translation that minimises the point-to-plane
+/// distances of its points to their nearest model points (within 3 cm; the model's
+/// normals by PCA of 10 neighbours), ten Gauss–Newton steps from where it lies. The
+/// directions the pairs do not constrain (along a cylinder's axis) are damped and stay
+/// as they are. The view as it is when the model is too small for normals.
+///
+/// ```
+/// use nalgebra::{Point3, Vector3};
+/// use nbv_core::nbv::{new_surface_share, settled_onto};
+/// // A 5 cm dome seen again 2 cm higher: counted as new until settled onto the first.
+/// let dome: Vec<Point3<f64>> = (0..40).flat_map(|i| (0..120).map(move |j| {
+///     let (t, f) = (1.5 * i as f64 / 40.0, std::f64::consts::TAU * j as f64 / 120.0);
+///     Point3::new(0.05 * t.sin() * f.cos(), 0.05 * t.sin() * f.sin(), 0.05 * t.cos())
+/// })).collect();
+/// let moved: Vec<_> = dome.iter().map(|p| p + Vector3::new(0.005, 0.0, 0.02)).collect();
+/// assert!(new_surface_share(&dome, &moved, None) > 0.05);
+/// assert!(new_surface_share(&dome, &settled_onto(&moved, &dome), None) < 0.005);
+/// ```
+pub fn settled_onto(view: &[Point3<f64>], model: &[Point3<f64>]) -> Vec<Point3<f64>> {
+    let finite = |p: &&Point3<f64>| p.iter().all(|c| c.is_finite());
+    let model = PointCloud::from_points(model.iter().filter(finite).copied().collect());
+    if model.len() <= SETTLE_NEIGHBOURS {
+        return view.to_vec();
+    }
+    let Ok(normals) = estimate_normals(&model, SETTLE_NEIGHBOURS) else {
+        return view.to_vec();
+    };
+    let coords: Vec<[f64; 3]> = model.points.iter().map(|p| [p.x, p.y, p.z]).collect();
+    let Ok(tree) = ImmutableKdTree::<f64, 3>::builder().build_from_slice(&coords) else {
+        return view.to_vec();
+    };
+    let mut shift = Vector3::zeros();
+    for _ in 0..SETTLE_ITERATIONS {
+        let mut normal_matrix = Matrix3::identity() * 1e-3;
+        let mut rhs = Vector3::zeros();
+        let mut pairs = 0usize;
+        for p in view.iter().filter(finite) {
+            let q = p + shift;
+            let nearest = tree
+                .query(&[q.x, q.y, q.z])
+                .nearest_one::<SquaredEuclidean<f64>>()
+                .execute();
+            if nearest.distance > SETTLE_DISTANCE * SETTLE_DISTANCE {
+                continue;
+            }
+            let i = nearest.item as usize;
+            let n = normals[i];
+            normal_matrix += n * n.transpose();
+            rhs += n * n.dot(&(model.points[i] - q));
+            pairs += 1;
+        }
+        if pairs == 0 {
+            break;
+        }
+        let Some(step) = normal_matrix.lu().solve(&rhs) else {
+            break;
+        };
+        shift += step;
+        if step.norm() < 1e-5 {
+            break;
+        }
+    }
+    view.iter().map(|p| p + shift).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -111,6 +196,45 @@ mod tests {
             inliers: Vec::new(),
             rms: 0.0,
         }
+    }
+
+    /// Points 3 mm apart on a vertical cylinder of radius 4 cm, 12 cm tall, about
+    /// (0.8, 0, ·), between azimuths `from` and `to` (rad).
+    fn cylinder(from: f64, to: f64) -> Vec<Point3<f64>> {
+        let n = ((to - from) * 0.04 / 0.003).ceil() as usize;
+        (0..n)
+            .flat_map(|i| {
+                let a = from + (to - from) * i as f64 / n as f64;
+                (0..40).map(move |j| {
+                    Point3::new(0.8 + 0.04 * a.cos(), 0.04 * a.sin(), 0.003 * j as f64)
+                })
+            })
+            .collect()
+    }
+
+    #[test]
+    fn settling_takes_out_the_pose_error_and_keeps_a_new_side() {
+        use std::f64::consts::PI;
+        let seen = cylinder(-PI / 2.0, PI / 2.0);
+        let shift = Vector3::new(-0.012, 0.008, 0.01);
+        // The same side again, moved by a pose error: nothing new once settled.
+        let again: Vec<Point3<f64>> = cylinder(-PI / 3.0, PI / 3.0)
+            .iter()
+            .map(|p| p + shift)
+            .collect();
+        assert!(new_surface_share(&seen, &again, None) > 0.05);
+        assert!(new_surface_share(&seen, &settled_onto(&again, &seen), None) < 0.005);
+        // The far side, half of it unseen: a rotation about the axis would lay it on the
+        // seen side; the translation leaves it new.
+        let far: Vec<Point3<f64>> = cylinder(PI / 4.0, 5.0 * PI / 4.0)
+            .iter()
+            .map(|p| p + shift)
+            .collect();
+        let truth = new_surface_share(&seen, &cylinder(PI / 4.0, 5.0 * PI / 4.0), None);
+        let settled = new_surface_share(&seen, &settled_onto(&far, &seen), None);
+        assert!(truth > 0.3 && settled > 0.9 * truth, "{truth} {settled}");
+        // Too small a model: the view as it is.
+        assert!(settled_onto(&again, &seen[..5]) == again);
     }
 
     /// A 10 × 10 cm model; a view of the next 5 × 10 cm strip: by hand, the strip's cells

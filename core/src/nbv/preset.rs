@@ -46,12 +46,14 @@ impl NbvPreset {
                 delta_theta: 15f64.to_radians(),
                 theta_max: 75f64.to_radians(),
                 delta_phi: 30f64.to_radians(),
+                near_radius: 0.0,
             },
             Self::Twin => ViewSphere {
                 radius: 0.45,
                 delta_theta: 10f64.to_radians(),
                 theta_max: 75f64.to_radians(),
                 delta_phi: 20f64.to_radians(),
+                near_radius: 0.3,
             },
         }
     }

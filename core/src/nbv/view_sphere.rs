@@ -41,6 +41,10 @@ pub struct ViewSphere {
     pub theta_max: f64,
     /// Azimuth step Δφ (rad), in (0, 2π].
     pub delta_phi: f64,
+    /// The nearer radius (m) a sample falls back to when no roll of it is reachable at
+    /// `radius`, in [0, radius): the far side of an object near the arm's reach lies
+    /// beyond it at `radius`. 0: off (Algorithm 2 as printed).
+    pub near_radius: f64,
 }
 
 impl Default for ViewSphere {
@@ -74,6 +78,9 @@ impl ViewSphere {
         };
         if !(self.radius.is_finite() && self.radius > 0.0) {
             return bad("radius", self.radius, "must be finite and > 0");
+        }
+        if !(self.near_radius >= 0.0 && self.near_radius < self.radius) {
+            return bad("near_radius", self.near_radius, "must be in [0, radius)");
         }
         if !(self.delta_theta.is_finite() && self.delta_theta > 0.0) {
             return bad("delta_theta", self.delta_theta, "must be finite and > 0");
@@ -133,6 +140,7 @@ mod tests {
                 delta_theta: deg(dt),
                 theta_max: deg(tmax),
                 delta_phi: deg(dp),
+                near_radius: 0.0,
             }
             .samples()
             .unwrap()
@@ -181,6 +189,10 @@ mod tests {
             },
             ViewSphere {
                 delta_theta: 0.0,
+                ..d
+            },
+            ViewSphere {
+                near_radius: d.radius,
                 ..d
             },
             ViewSphere {

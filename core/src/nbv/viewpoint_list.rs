@@ -212,7 +212,8 @@ impl NextBestView {
         })
     }
 
-    /// Lines 1–10: the sphere's samples around `centroid`, their poses by eq. (3), minus
+    /// Lines 1–10: the sphere's samples around `centroid`, their poses by eq. (3) (at the
+    /// near radius where none is reachable at the radius, when the sphere has one), minus
     /// those close to a visited view and those without an IK solution for the sensor frame
     /// (IK failures other than "unreachable" — an unknown frame, an unsupported robot —
     /// are errors; a pose whose closed-form solutions cannot be polished counts as
@@ -262,6 +263,8 @@ impl NextBestView {
         Ok(set)
     }
 
+    /// The sample's viewpoint at the sphere's radius, or — none of its rolls reachable
+    /// there — at its near radius.
     fn viewpoint(
         &self,
         robot: &Robot,
@@ -270,35 +273,34 @@ impl NextBestView {
         sample: &SphereSample,
         usable: &GoalFilter<'_>,
     ) -> Result<SampleOutcome, NbvError> {
-        let base = view_pose(
-            centroid,
-            self.params.sphere.radius,
-            sample.theta,
-            sample.phi,
-        );
-        // Position and optical axis do not depend on the roll.
-        if visited.is_close(&base) {
-            return Ok(SampleOutcome::Visited);
-        }
-        let n = self.params.roll_candidates;
-        for k in 0..n {
-            let roll = TAU * k as f64 / n as f64;
-            let pose = view_pose_rolled(&base, roll);
-            match robot.ik(&self.frame, &pose) {
-                Ok(mut solutions) => {
-                    solutions.retain(|s| usable(s));
-                    if solutions.is_empty() {
-                        continue;
+        let sphere = &self.params.sphere;
+        let near = (sphere.near_radius > 0.0).then_some(sphere.near_radius);
+        for radius in std::iter::once(sphere.radius).chain(near) {
+            let base = view_pose(centroid, radius, sample.theta, sample.phi);
+            // Position and optical axis do not depend on the roll.
+            if visited.is_close(&base) {
+                return Ok(SampleOutcome::Visited);
+            }
+            let n = self.params.roll_candidates;
+            for k in 0..n {
+                let roll = TAU * k as f64 / n as f64;
+                let pose = view_pose_rolled(&base, roll);
+                match robot.ik(&self.frame, &pose) {
+                    Ok(mut solutions) => {
+                        solutions.retain(|s| usable(s));
+                        if solutions.is_empty() {
+                            continue;
+                        }
+                        return Ok(SampleOutcome::Kept(Viewpoint {
+                            sample: *sample,
+                            roll,
+                            pose,
+                            solutions,
+                        }));
                     }
-                    return Ok(SampleOutcome::Kept(Viewpoint {
-                        sample: *sample,
-                        roll,
-                        pose,
-                        solutions,
-                    }));
+                    Err(IkError::Unreachable(_) | IkError::NotConverged { .. }) => {}
+                    Err(e) => return Err(e.into()),
                 }
-                Err(IkError::Unreachable(_) | IkError::NotConverged { .. }) => {}
-                Err(e) => return Err(e.into()),
             }
         }
         Ok(SampleOutcome::Unreachable)

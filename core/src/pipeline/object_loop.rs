@@ -16,7 +16,7 @@ use crate::cloud::{PlaneFit, PointCloud};
 use crate::math::Pose;
 use crate::nbv::{
     Candidate, InformationGain, MissedVoxels, NextBestView, StopReason, SurfaceSides, VisitedViews,
-    lazy_best, movement_cost_total, new_surface_share,
+    lazy_best, movement_cost_total, new_surface_share, settled_onto,
 };
 use crate::planning::PlannedPath;
 use crate::rig::RigError;
@@ -393,7 +393,13 @@ impl<'a> ObjectLoop<'a> {
             .chain(object.views.iter().flat_map(|v| v.cloud.points.iter()))
             .copied()
             .collect();
-        let new_surface = new_surface_share(&model, &cloud.points, self.table);
+        let new_surface = if self.nbv.params.object_surface {
+            // The view's pose error moves it by up to a centimetre or two against the
+            // earlier views: measured where it lies on them, and above its own table.
+            new_surface_share(&model, &settled_onto(&cloud.points, &model), table)
+        } else {
+            new_surface_share(&model, &cloud.points, self.table)
+        };
         let first_points = object.views.is_empty().then_some(cloud.len());
         let gain = seen.gain;
         object.views.push(AcquiredView {

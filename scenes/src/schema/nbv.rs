@@ -37,6 +37,10 @@ pub struct Nbv {
     pub preset: NbvPreset,
     /// Viewing-sphere radius `r` (m). Twin 0.45, paper 0.3.
     pub radius: f64,
+    /// The nearer radius (m) a sphere sample falls back to when the arm reaches none of
+    /// its rolls at `radius`, in [0, radius); 0 is off. Twin 0.3, paper 0 (Algorithm 2 as
+    /// printed).
+    pub near_radius: f64,
     /// Inclination step `Δθ` (degrees). Twin 10, paper 15.
     pub dtheta_deg: f64,
     /// Largest inclination `θ_max` (degrees from straight above). Both 75.
@@ -140,6 +144,7 @@ impl Nbv {
         Self {
             preset,
             radius: p.sphere.radius,
+            near_radius: p.sphere.near_radius,
             dtheta_deg: whole_degrees(p.sphere.delta_theta),
             theta_max_deg: whole_degrees(p.sphere.theta_max),
             dphi_deg: whole_degrees(p.sphere.delta_phi),
@@ -186,6 +191,7 @@ fn whole_degrees(rad: f64) -> f64 {
 struct NbvKeys {
     preset: Option<NbvPreset>,
     radius: Option<f64>,
+    near_radius: Option<f64>,
     dtheta_deg: Option<f64>,
     theta_max_deg: Option<f64>,
     dphi_deg: Option<f64>,
@@ -216,6 +222,7 @@ impl From<NbvKeys> for Nbv {
         Self {
             preset: base.preset,
             radius: k.radius.unwrap_or(base.radius),
+            near_radius: k.near_radius.unwrap_or(base.near_radius),
             dtheta_deg: k.dtheta_deg.unwrap_or(base.dtheta_deg),
             theta_max_deg: k.theta_max_deg.unwrap_or(base.theta_max_deg),
             dphi_deg: k.dphi_deg.unwrap_or(base.dphi_deg),
@@ -256,6 +263,13 @@ impl Nbv {
     /// Checks every value of `[nbv]`; the error names the key.
     pub(crate) fn check(&self, c: &Check) -> Result<(), SceneError> {
         c.positive("nbv.radius", self.radius)?;
+        c.within(
+            "nbv.near_radius",
+            self.near_radius,
+            0.0,
+            self.radius - 1e-9,
+            "[0, nbv.radius): 0 is off",
+        )?;
         c.within(
             "nbv.dtheta_deg",
             self.dtheta_deg,

@@ -100,6 +100,7 @@ impl DensePoses {
                 delta_theta: self.delta_theta_deg.to_radians(),
                 theta_max: self.theta_max_deg.to_radians(),
                 delta_phi: self.delta_phi_deg.to_radians(),
+                near_radius: 0.0,
             };
             let samples = sphere.samples().map_err(|e| e.to_string())?;
             for s in samples {
