@@ -102,12 +102,11 @@ fn table_output_and_bad_object() {
 
 #[test]
 fn the_object_surface_score_counts_part_of_each_view() {
-    // The twin's object-surface score without the hull: eq. (4) over the object's surface
-    // (what the hull score falls back to for a flat object). Each counted voxel is a voxel
+    // The twin's default: eq. (4) over the object's surface. Each counted voxel is a voxel
     // of O_v on the map the score sees (α_u for new surface, α_o for seen surface), so the
     // score lies between 0 and α_u·|O_v|; the list is sorted by it, and the best view of
     // each object sees some of it.
-    for o in views("paper-env1", &["--set", "nbv.hull_score=false"]) {
+    for o in views("paper-env1", &[]) {
         let c = o["candidates"].as_array().unwrap();
         let scores: Vec<f64> = c.iter().map(|c| c["score"].as_f64().unwrap()).collect();
         assert!(scores.windows(2).all(|w| w[0] >= w[1]), "{scores:?}");
@@ -128,7 +127,10 @@ fn the_object_surface_score_counts_part_of_each_view() {
 /// correlation with the truth is at least 0.5 on average (0.76; eq. (4): 0.25).
 #[test]
 fn the_hull_score_chooses_nearly_the_best_first_view() {
-    let objects = views("paper-env1", &["--no-plan", "--oracle"]);
+    let objects = views(
+        "paper-env1",
+        &["--no-plan", "--oracle", "--set", "nbv.hull_score=true"],
+    );
     assert_eq!(objects.len(), 3);
     let (mut share, mut rho) = (0.0, 0.0);
     for o in &objects {

@@ -25,8 +25,8 @@ use super::{
 pub enum NbvPreset {
     /// For the twin's and the real rig's Dinast (1–2 cm of range noise at 0.3–0.45 m): a
     /// wider, denser viewing sphere (r 0.45 m, Δθ 10°, Δφ 20°, 0.3 m where 0.45 is out of
-    /// reach), the object's unseen hull scored, a lower gain threshold (2.5), the
-    /// new-surface stop rules and 16 views at most. Chosen over generated scenes, where the paper's values leave far
+    /// reach), eq. (4) counting the object's surface, a lower gain threshold (2.5), the
+    /// new-surface stop rule and 16 views at most. Chosen over generated scenes, where the paper's values leave far
     /// sides unseen (`examples/sweeps/nbv_presets.toml`, docs/presets.md).
     #[default]
     Twin,
@@ -61,8 +61,8 @@ impl NbvPreset {
     /// Algorithm 2's parameters: the sphere, the paper's (α_u, α_o) = (4, 1), every 8th
     /// Dinast pixel in u and v (1200 rays; the paper does not say how D was subsampled),
     /// four rolls about the optical axis (eq. (3)'s first), eq. (4) ranking, and — twin
-    /// only — the object's surface scored (its unseen hull, eq. (4) over its voxels for a
-    /// flat object) and the unknown space above the objects free for the planner.
+    /// only — eq. (4) counting the object's surface and the unknown space above the
+    /// objects free for the planner.
     pub fn params(self) -> NbvParams {
         NbvParams {
             sphere: self.sphere(),
@@ -73,7 +73,7 @@ impl NbvPreset {
             objective: Objective::Paper,
             cost_weight: 0.0,
             object_surface: self == Self::Twin,
-            hull_score: self == Self::Twin,
+            hull_score: false,
             free_above_objects: self == Self::Twin,
         }
     }

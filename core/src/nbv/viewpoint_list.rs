@@ -61,7 +61,7 @@ pub struct NbvParams {
     pub object_surface: bool,
     /// With `object_surface`, a candidate scores the unseen area of the object's convex
     /// hull it would see ([`HullSurface`](super::HullSurface)) in place of eq. (4)'s
-    /// voxel count; false: eq. (4). The twin preset's (the default) is true.
+    /// voxel count; false (default): eq. (4).
     pub hull_score: bool,
     /// The planner takes the unknown space above every object phase 1 found (above the
     /// highest top of their regions, [`ExplorationMap::free_above`]) as free; false

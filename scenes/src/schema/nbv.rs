@@ -109,7 +109,7 @@ pub struct Nbv {
     /// hull (its points and their footprint on the table) it would see, facing it, at the
     /// camera's return for the incidence, not hidden by another object
     /// ([`HullSurface`](nbv_core::nbv::HullSurface)), in place of eq. (4)'s voxel count.
-    /// Twin true, paper false (docs/exploration.md, "Scoring the unseen hull").
+    /// False in both presets (docs/exploration.md, "Scoring the unseen hull").
     pub hull_score: bool,
     /// The planner takes the unknown space above every object phase 1 found (above the
     /// highest top of their regions) as free, not as an obstacle: the objects stand on the
