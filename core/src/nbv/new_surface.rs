@@ -19,8 +19,8 @@
 //! counted as nothing.
 //!
 //! A new cell counts only beside another new cell: a flying pixel at a rim or a table
-//! return past the margin is a lone cell, and on a small object (a spatula's few hundred cells) a
-//! handful of them made 0.6–1.3 % per view after its coverage had reached 100 %.
+//! return past the margin is a lone cell, and on a small object (a spatula's few hundred
+//! cells) a handful of them made 0.6–1.3 % per view after its coverage had reached 100 %.
 //!
 //! [`StopRule::new_surface`]: super::StopRule::new_surface
 
