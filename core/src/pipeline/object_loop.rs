@@ -393,13 +393,14 @@ impl<'a> ObjectLoop<'a> {
             .chain(object.views.iter().flat_map(|v| v.cloud.points.iter()))
             .copied()
             .collect();
-        let new_surface = if self.nbv.params.object_surface {
-            // The view's pose error moves it by up to a centimetre or two against the
-            // earlier views: measured where it lies on them, and above its own table.
-            new_surface_share(&model, &settled_onto(&cloud.points, &model), table)
+        // With the object's surface, the view is counted where it lies on the earlier
+        // ones (its pose error moves it by a centimetre or two), above its own table.
+        let counted = if self.nbv.params.object_surface {
+            settled_onto(&cloud.points, &model)
         } else {
-            new_surface_share(&model, &cloud.points, self.table)
+            cloud.points.clone()
         };
+        let new_surface = new_surface_share(&model, &counted, table);
         let first_points = object.views.is_empty().then_some(cloud.len());
         let gain = seen.gain;
         object.views.push(AcquiredView {
