@@ -318,6 +318,16 @@ fn bad_objective_and_cost_weight() {
     assert!(matches!(problem, Problem::OutOfRange { .. }), "{problem}");
     let text = env1().replace("relative_gain = 0.0", "relative_gain = 1.0");
     assert_eq!(invalid(&text).0, "nbv.relative_gain");
+    // The near radius lies in [0, radius): the radius itself is no nearer sphere.
+    let near = |r: &str| {
+        env1().replace(
+            "radius = 0.45\n",
+            &format!("radius = 0.45\nnear_radius = {r}\n"),
+        )
+    };
+    assert_eq!(invalid(&near("0.45")).0, "nbv.near_radius");
+    assert_eq!(invalid(&near("-0.1")).0, "nbv.near_radius");
+    assert_eq!(check(&near("0.4499")).unwrap().nbv.near_radius, 0.4499);
     // Every objective's name loads.
     for o in nbv_core::nbv::Objective::ALL {
         let scene = check(&with(&format!("objective = \"{}\"", o.name()))).unwrap();

@@ -267,7 +267,7 @@ impl Nbv {
             "nbv.near_radius",
             self.near_radius,
             0.0,
-            self.radius - 1e-9,
+            self.radius.next_down(),
             "[0, nbv.radius): 0 is off",
         )?;
         c.within(
