@@ -8,7 +8,10 @@ dominate in (mean F-score up, views per object down) after n settings, as a shar
 box between the best and worst values any method saw (the reference point 10 % beyond the
 worst). Figures in docs/tuning.md.
 
-    python3 benches/figures/tune_vs_grid.py GRID_DIR TUNE_F_DIR TUNE_2_DIR
+    python3 benches/figures/tune_vs_grid.py GRID_DIR TUNE_F_DIR [TUNE_2_DIR]
+
+The issue's task (`examples/tune/exploration_grid_5x5x5.toml` and
+`exploration_f_score.toml`) has no two-objective run: leave TUNE_2_DIR out.
 """
 
 import glob
@@ -60,13 +63,16 @@ def hypervolume(points, ideal, nadir):
 
 
 def main():
-    grid_dir, tune_f, tune_2 = sys.argv[1:4]
+    if len(sys.argv) not in (3, 4):
+        sys.exit(__doc__)
+    grid_dir, tune_f = sys.argv[1:3]
     methods = {
         "grid 5x5x5": grid_settings(grid_dir),
         "tune, F-score (Bayesian)": trial_settings(tune_f),
         "random search (tune_f's)": trial_settings(os.path.join(tune_f, "random")),
-        "tune, F-score and views (EHVI)": trial_settings(tune_2),
     }
+    if len(sys.argv) == 4:
+        methods["tune, F-score and views (EHVI)"] = trial_settings(sys.argv[3])
     episodes_per_setting = len(rows_in(os.path.join(tune_f, "trials", "0000", "*.row.json")))
     feasible = {m: [(f, v) for f, v, ok in s if ok] for m, s in methods.items()}
     every = [p for s in feasible.values() for p in s]
