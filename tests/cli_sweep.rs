@@ -1,5 +1,6 @@
 //! `nbv sweep` end to end on fast episodes (the mid-only baseline on a generated one-object
-//! scene): three shards merged equal the unsharded run, an interrupted sweep resumes
+//! scene): three shards merged equal the unsharded run, `--report-only` gives the same
+//! rows and keeps each episode's report alone, an interrupted sweep resumes
 //! without losing or duplicating rows, gates exit 4 naming the failed gate, and bad grids
 //! fail clearly.
 
@@ -55,6 +56,51 @@ fn shards_merged_equal_the_whole_and_resume_does_not_duplicate() {
     assert_eq!(rows.len(), 7, "{rows:?}"); // header + 6 episodes
     assert!(rows[0].starts_with("index,id,scene,mode,seed,nbv.alpha_u,objects,"));
     assert!(rows[1].starts_with("0,0000-") && rows[6].starts_with("5,0005-"));
+
+    // `--report-only`: the same rows; each episode's directory holds its report alone,
+    // where the whole run's hold the sweep cloud, the grids and the models too.
+    let lean = dir.path().join("lean");
+    let out = sweep(&[
+        "run",
+        &grid,
+        "-o",
+        lean.to_str().unwrap(),
+        "-q",
+        "--jobs",
+        "2",
+        "--report-only",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(without_times(&lean), rows);
+    let files = |run: &Path| -> Vec<Vec<String>> {
+        let mut dirs: Vec<_> = std::fs::read_dir(run.join("episodes"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.is_dir())
+            .collect();
+        dirs.sort();
+        dirs.iter()
+            .map(|d| {
+                let mut names: Vec<String> = std::fs::read_dir(d)
+                    .unwrap()
+                    .map(|f| f.unwrap().file_name().into_string().unwrap())
+                    .collect();
+                names.sort();
+                names
+            })
+            .collect()
+    };
+    let lean_files = files(&lean);
+    assert_eq!(lean_files.len(), 6);
+    assert!(
+        lean_files.iter().all(|f| f == &["report.json"]),
+        "{lean_files:?}"
+    );
+    assert!(
+        files(&whole)
+            .iter()
+            .all(|f| f.iter().any(|n| n == "mid_range.ply"))
+    );
 
     let mut shards = Vec::new();
     for i in 0..3 {

@@ -131,6 +131,7 @@ pub fn run(args: ExploreArgs) -> Result<()> {
                 bag: args.bag,
                 oracle: args.oracle,
                 oracle_cache: None,
+                outputs: nbv_sweep::episode::Outputs::All,
             };
             let report = nbv_sweep::episode::run_episode(
                 &scene,
@@ -171,6 +172,7 @@ fn run_hw(scene: &nbv_scenes::Scene, args: &ExploreArgs) -> Result<ExploreReport
         &args.output,
         !args.no_pictures,
         None,
+        nbv_sweep::episode::Outputs::All,
     )?)
 }
 

@@ -90,6 +90,10 @@ pub struct RunArgs {
     /// (MCAP) for RViz, Foxglove and `ros2 bag play` (docs/bags.md).
     #[arg(long)]
     bag: bool,
+    /// Each episode keeps only its `report.json` (and `oracle.json`): no clouds, grids,
+    /// models, meshes or `rgbd/`, which take about 12 MB an episode.
+    #[arg(long)]
+    report_only: bool,
     /// No progress bar.
     #[arg(long, short)]
     quiet: bool,
@@ -244,6 +248,7 @@ fn run_grid(args: RunArgs) -> Result<ExitCode> {
         pictures: args.pictures,
         record: args.record,
         bag: args.bag,
+        report_only: args.report_only,
     };
     let prepared = sweep.prepare()?;
     let todo = prepared.todo.len();

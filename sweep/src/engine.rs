@@ -86,6 +86,8 @@ pub struct SweepRun {
     pub record: bool,
     /// Also write each episode as a ROS 2 bag (`bag/`).
     pub bag: bool,
+    /// Each episode keeps its report alone ([`Outputs::ReportOnly`](crate::episode::Outputs)).
+    pub report_only: bool,
 }
 
 /// A sweep directory ready to run ([`SweepRun::prepare`]).
@@ -175,6 +177,11 @@ impl SweepRun {
                         bag: self.bag,
                         oracle: prepared.grid.oracle,
                         oracle_cache: Some(self.output.join("oracles")),
+                        outputs: if self.report_only {
+                            crate::episode::Outputs::ReportOnly
+                        } else {
+                            crate::episode::Outputs::All
+                        },
                     };
                     // A panic in one episode fails that episode, not the sweep.
                     let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {

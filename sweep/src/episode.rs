@@ -25,9 +25,24 @@ use nbv_core::pipeline::{Exploration, ExploreConfig, ExploreMode, ExploreObserve
 use nbv_sim::rig::SimRig;
 use std::path::Path;
 
+/// Which of an episode's files it writes besides its report.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Outputs {
+    /// Every file of the layout above: the sweep cloud, the grids, each object's model,
+    /// views, fused surface, `rgbd/` and truth.
+    #[default]
+    All,
+    /// The report alone (with the oracle's files, the pictures, the recording and the bag
+    /// when asked): an episode's files take about 12 MB, which a sweep of thousands does
+    /// not keep.
+    ReportOnly,
+}
+
 /// What an episode writes besides the report, the models and the map.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Extras {
+    /// Which files besides the report ([`Outputs::All`] unless asked).
+    pub outputs: Outputs,
     /// The pictures ([`crate::pictures`]).
     pub pictures: bool,
     /// The recording for the Rerun viewer, `episode.rrd` (needs the feature `rerun`).
@@ -103,6 +118,7 @@ fn finish_in_twin(
         out,
         extras.pictures,
         oracle.as_ref(),
+        extras.outputs,
     )
 }
 
@@ -186,7 +202,8 @@ pub fn explore_in_twin(
 
 /// Evaluates an exploration against the scene's truth (and against its `oracle`, when
 /// given: `oracle.json` and `coverage_by_view.svg` written beside the report) and writes
-/// the report, the models, the map and (if asked) the pictures into `out`.
+/// the report, the `outputs` (the models, the map, …) and (if asked) the pictures into
+/// `out`.
 pub fn finish_episode(
     scene: &nbv_scenes::Scene,
     config: &ExploreConfig,
@@ -194,6 +211,7 @@ pub fn finish_episode(
     out: &Path,
     pictures: bool,
     oracle: Option<&crate::oracle::OracleReport>,
+    outputs: Outputs,
 ) -> Result<ExploreReport> {
     let mut report = evaluate(scene, config, exploration)?;
     if let Some(oracle) = oracle {
@@ -203,7 +221,14 @@ pub fn finish_episode(
         crate::layout::write_json(&out.join("oracle.json"), oracle)?;
         crate::plots::write_episode_coverage(out, &report)?;
     }
-    write_outputs(out, scene, config, exploration, &report)?;
+    match outputs {
+        Outputs::All => write_outputs(out, scene, config, exploration, &report)?,
+        Outputs::ReportOnly => {
+            check_output(out)?;
+            std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+            crate::layout::write_json(&out.join("report.json"), &report)?;
+        }
+    }
     if pictures {
         crate::pictures::write(out, scene, exploration, &report);
     }

@@ -10,7 +10,7 @@ use nbv_bag::BagReader;
 use nbv_bag::messages::{CameraInfo, Image, JointState, Marker, MarkerArray, RosString, TFMessage};
 use nbv_core::pipeline::{ExploreMode, NoObserver};
 use nbv_sweep::bag_recording::{STAMP_OFFSET_NS, topics};
-use nbv_sweep::episode::{Extras, explore_in_twin, finish_episode, run_episode};
+use nbv_sweep::episode::{Extras, Outputs, explore_in_twin, finish_episode, run_episode};
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -78,7 +78,16 @@ fn an_episode_bag_holds_every_topic_and_the_same_episode() {
     let without = tmp.path().join("without");
     let (config, exploration) =
         explore_in_twin(&scene, ExploreMode::Hybrid, &mut NoObserver).unwrap();
-    finish_episode(&scene, &config, &exploration, &without, false, None).unwrap();
+    finish_episode(
+        &scene,
+        &config,
+        &exploration,
+        &without,
+        false,
+        None,
+        Outputs::All,
+    )
+    .unwrap();
     same_episode(&with, &without);
 
     let dir = with.join("bag");

@@ -35,6 +35,7 @@ const POSE_INTERVAL: f64 = 0.05;
 /// ```no_run
 /// # fn demo(scene: &nbv_scenes::Scene) -> nbv_sweep::Result<()> {
 /// use nbv_sweep::bag_recording::BagRecorder;
+/// use nbv_sweep::episode::Outputs;
 /// let out = std::path::Path::new("run");
 /// let mut bag = BagRecorder::create(out, scene)?;
 /// let mut progress = nbv_core::pipeline::NoObserver;
@@ -43,7 +44,7 @@ const POSE_INTERVAL: f64 = 0.05;
 ///     nbv_core::pipeline::ExploreMode::Hybrid,
 ///     &mut bag.observe(&mut progress),
 /// )?;
-/// let report = nbv_sweep::episode::finish_episode(scene, &config, &exploration, out, false, None)?;
+/// let report = nbv_sweep::episode::finish_episode(scene, &config, &exploration, out, false, None, Outputs::All)?;
 /// let dir = bag.finish(&exploration, &report)?;
 /// assert!(dir.ends_with("bag"));
 /// # Ok(()) }

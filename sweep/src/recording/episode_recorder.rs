@@ -34,6 +34,7 @@ const FRUSTUM_DEPTH: f32 = 0.12;
 /// ```no_run
 /// # fn demo(scene: &nbv_scenes::Scene) -> nbv_sweep::Result<()> {
 /// use nbv_sweep::recording::EpisodeRecorder;
+/// use nbv_sweep::episode::Outputs;
 /// let out = std::path::Path::new("run");
 /// let mut recorder = EpisodeRecorder::create(out, scene)?;
 /// let mut progress = nbv_core::pipeline::NoObserver;
@@ -42,7 +43,7 @@ const FRUSTUM_DEPTH: f32 = 0.12;
 ///     nbv_core::pipeline::ExploreMode::Hybrid,
 ///     &mut recorder.observe(&mut progress),
 /// )?;
-/// let report = nbv_sweep::episode::finish_episode(scene, &config, &exploration, out, false, None)?;
+/// let report = nbv_sweep::episode::finish_episode(scene, &config, &exploration, out, false, None, Outputs::All)?;
 /// let file = recorder.finish(scene, &exploration, &report)?;
 /// assert!(file.ends_with("episode.rrd"));
 /// # Ok(()) }

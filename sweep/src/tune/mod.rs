@@ -350,6 +350,7 @@ fn run_episode(out: &Path, dir: &Path, grid: &SweepGrid, e: &Episode) -> Result<
     let extras = crate::episode::Extras {
         oracle: grid.oracle,
         oracle_cache: Some(out.join("oracles")),
+        outputs: crate::episode::Outputs::ReportOnly,
         ..Default::default()
     };
     crate::engine::run_to_row(grid, e, &work, &trials::row_file(dir, e), extras)?;
