@@ -248,7 +248,11 @@ fn run_grid(args: RunArgs) -> Result<ExitCode> {
         pictures: args.pictures,
         record: args.record,
         bag: args.bag,
-        report_only: args.report_only,
+        outputs: if args.report_only {
+            nbv_sweep::episode::Outputs::ReportOnly
+        } else {
+            nbv_sweep::episode::Outputs::All
+        },
     };
     let prepared = sweep.prepare()?;
     let todo = prepared.todo.len();

@@ -86,8 +86,8 @@ pub struct SweepRun {
     pub record: bool,
     /// Also write each episode as a ROS 2 bag (`bag/`).
     pub bag: bool,
-    /// Each episode keeps its report alone ([`Outputs::ReportOnly`](crate::episode::Outputs)).
-    pub report_only: bool,
+    /// Which of each episode's files it keeps besides its report.
+    pub outputs: crate::episode::Outputs,
 }
 
 /// A sweep directory ready to run ([`SweepRun::prepare`]).
@@ -177,11 +177,7 @@ impl SweepRun {
                         bag: self.bag,
                         oracle: prepared.grid.oracle,
                         oracle_cache: Some(self.output.join("oracles")),
-                        outputs: if self.report_only {
-                            crate::episode::Outputs::ReportOnly
-                        } else {
-                            crate::episode::Outputs::All
-                        },
+                        outputs: self.outputs,
                     };
                     // A panic in one episode fails that episode, not the sweep.
                     let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {

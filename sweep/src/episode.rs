@@ -221,28 +221,38 @@ pub fn finish_episode(
         crate::layout::write_json(&out.join("oracle.json"), oracle)?;
         crate::plots::write_episode_coverage(out, &report)?;
     }
-    match outputs {
-        Outputs::All => write_outputs(out, scene, config, exploration, &report)?,
-        Outputs::ReportOnly => {
-            check_output(out)?;
-            std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-            crate::layout::write_json(&out.join("report.json"), &report)?;
-        }
-    }
+    write_outputs(out, scene, config, exploration, &report, outputs)?;
     if pictures {
         crate::pictures::write(out, scene, exploration, &report);
     }
     Ok(report)
 }
 
+/// The `outputs`, then the report (last: its presence marks the episode written).
 fn write_outputs(
     out: &Path,
     scene: &nbv_scenes::Scene,
     config: &ExploreConfig,
     exploration: &Exploration,
     report: &ExploreReport,
+    outputs: Outputs,
 ) -> Result<()> {
     check_output(out)?;
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    if outputs == Outputs::All {
+        write_files(out, scene, config, exploration, report)?;
+    }
+    crate::layout::write_json(&out.join("report.json"), report)
+}
+
+/// [`Outputs::All`]'s files: the sweep cloud, the grids and each object's.
+fn write_files(
+    out: &Path,
+    scene: &nbv_scenes::Scene,
+    config: &ExploreConfig,
+    exploration: &Exploration,
+    report: &ExploreReport,
+) -> Result<()> {
     std::fs::create_dir_all(out.join("map"))
         .with_context(|| format!("creating {}", out.display()))?;
     let opts = WriteOptions::default();
@@ -284,7 +294,7 @@ fn write_outputs(
             )?;
         }
     }
-    crate::layout::write_json(&out.join("report.json"), report)
+    Ok(())
 }
 
 fn write_grid(path: &Path, grid: &nbv_core::occupancy::OccupancyGrid) -> Result<()> {
