@@ -4,10 +4,10 @@
 //! - [`PinholeIntrinsics`]: the depth camera's pinhole model (Open3D's convention);
 //! - [`DepthView`]: one depth image with its camera-to-world pose;
 //! - [`TsdfParams`], [`TsdfVolume`]: projective TSDF fusion in sparse 8³ blocks, each
-//!   observation weighted by the camera's noise at its depth (1/σ²), tapered behind the
-//!   surface;
-//! - [`TsdfVolume::extract_mesh`]: the zero set by Surface Nets (`fast-surface-nets`),
-//!   only where every corner of a cell was observed;
+//!   observation weighted by the camera's noise at its depth (1/σ²), tapered from two
+//!   noise sigmas behind the surface;
+//! - [`TsdfVolume::extract_mesh`]: the zero set by marching cubes (`mcubes`), only where
+//!   every corner of a cell was observed;
 //! - [`RgbdDataset`]: views in Open3D's reconstruction-system layout (16-bit depth PNGs,
 //!   `camera_intrinsic.json`, `trajectory.log`), written and read.
 
