@@ -8,12 +8,13 @@ dominate in (mean F-score up, views per object down) after n settings, as a shar
 box between the best and worst values any method saw (the reference point 10 % beyond the
 worst). Figures in docs/tuning.md.
 
-    python3 benches/figures/tune_vs_grid.py GRID_DIR TUNE_F_DIR [TUNE_2_DIR]
+    python3 benches/figures/tune_vs_grid.py GRID_DIR|GRID_CSV TUNE_F_DIR [TUNE_2_DIR]
 
 The issue's task (`examples/tune/exploration_grid_5x5x5.toml` and
 `exploration_f_score.toml`) has no two-objective run: leave TUNE_2_DIR out.
 """
 
+import csv
 import glob
 import json
 import os
@@ -32,11 +33,21 @@ def figures(rows):
     return f, views, ok
 
 
+TUNED = ("nbv.alpha_u", "nbv.alpha_o", "nbv.gain_threshold")
+
+
 def grid_settings(d):
+    """The grid's settings from a sweep directory's rows, or from a CSV of its episodes
+    (the sweep's results.csv, or benches/figures/task_grid_episodes.csv)."""
     by = {}
-    for r in rows_in(os.path.join(d, "episodes", "*.row.json")):
-        key = tuple((k, v) for k, v in r["params"] if k != "registration.baselines")
-        by.setdefault(key, []).append(r)
+    if d.endswith(".csv"):
+        for r in csv.DictReader(open(d)):
+            row = {k: float(r[k]) for k in ("f_score", "views", "objects", "collisions", "missed")}
+            by.setdefault(tuple(r[k] for k in TUNED), []).append(row)
+    else:
+        for r in rows_in(os.path.join(d, "episodes", "*.row.json")):
+            key = tuple((k, v) for k, v in r["params"] if k != "registration.baselines")
+            by.setdefault(key, []).append(r)
     return [figures(v) for _, v in sorted(by.items())]
 
 
