@@ -56,16 +56,15 @@ impl TsdfVolume {
         let voxel = self.params().voxel;
         let mut out = SurfaceMesh::default();
         let mut welded: HashMap<[i64; 3], u32> = HashMap::new();
-        for (edge, grid, normal) in per_block.iter().flatten().flatten() {
-            welded.entry(*edge).or_insert_with(|| {
-                out.mesh.vertices.push(Point3::from(grid * voxel));
-                out.normals
-                    .push(normal.try_normalize(1e-12).unwrap_or_else(Vector3::z));
-                (out.mesh.vertices.len() - 1) as u32
-            });
-        }
         for t in per_block.iter().flatten() {
-            let tri = t.each_ref().map(|(edge, _, _)| welded[edge]);
+            let tri = t.each_ref().map(|(edge, grid, normal)| {
+                *welded.entry(*edge).or_insert_with(|| {
+                    out.mesh.vertices.push(Point3::from(grid * voxel));
+                    out.normals
+                        .push(normal.try_normalize(1e-12).unwrap_or_else(Vector3::z));
+                    (out.mesh.vertices.len() - 1) as u32
+                })
+            });
             if tri[0] != tri[1] && tri[1] != tri[2] && tri[2] != tri[0] {
                 out.mesh.triangles.push(tri);
             }
