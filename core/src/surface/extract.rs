@@ -14,7 +14,7 @@
 //! (and on thin parts) the surface stops short of the last observed cell; on the paper
 //! scenes that strip cost 1–5 points of completeness at 5 mm (docs/surface.md).
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 use lin_alg::f32::Vec3;
 use mcubes::{MarchingCubes, MeshSide};
@@ -38,9 +38,18 @@ pub struct SurfaceMesh {
 /// Values per edge of the array a block is meshed from: its voxels and its neighbours' first.
 const SPAN: usize = BLOCK as usize + 1;
 
-/// One corner of a block's triangles: the cell edge it lies on (half-voxel units, global),
-/// its position (voxel units, global) and its normal.
-type Corner = ([i64; 3], Vector3<f64>, Vector3<f64>);
+/// Half-voxel positions per edge of a block's cells: 0 ..= 2·BLOCK.
+const HALF: usize = 2 * BLOCK as usize + 1;
+
+/// One block's share of the surface: its vertices (welded within the block) and
+/// triangles indexing them.
+#[derive(Default)]
+struct BlockMesh {
+    /// Each vertex's cell edge (half-voxel units, within the block: 0 ..= 2·BLOCK), its
+    /// position (voxel units, global) and its normal.
+    vertices: Vec<([u8; 3], Vector3<f64>, Vector3<f64>)>,
+    triangles: Vec<[u32; 3]>,
+}
 
 impl TsdfVolume {
     /// The fused surface: vertices in the world frame, triangles counter-clockwise seen
@@ -48,32 +57,48 @@ impl TsdfVolume {
     /// [`min_observations`](super::TsdfParams::min_observations). Empty for an empty
     /// volume. The same for any thread count.
     pub fn extract_mesh(&self) -> SurfaceMesh {
-        let per_block: Vec<Vec<[Corner; 3]>> = self
+        let per_block: Vec<BlockMesh> = self
             .keys
             .par_iter()
-            .map(|key| self.block_triangles(*key))
+            .map(|key| self.block_mesh(*key))
             .collect();
+        // Blocks in allocation order; a vertex inside a block is its own, one on a block's
+        // face is shared with the neighbour across it and welded by its global cell edge.
         let voxel = self.params().voxel;
         let mut out = SurfaceMesh::default();
-        let mut welded: HashMap<[i64; 3], u32> = HashMap::new();
-        for t in per_block.iter().flatten() {
-            let tri = t.each_ref().map(|(edge, grid, normal)| {
-                *welded.entry(*edge).or_insert_with(|| {
+        let mut shared: FxHashMap<[i64; 3], u32> = FxHashMap::default();
+        let mut ids = Vec::new();
+        for (part, key) in per_block.iter().zip(&self.keys) {
+            ids.clear();
+            for (edge, grid, normal) in &part.vertices {
+                let mut push = || {
                     out.mesh.vertices.push(Point3::from(grid * voxel));
                     out.normals
                         .push(normal.try_normalize(1e-12).unwrap_or_else(Vector3::z));
                     (out.mesh.vertices.len() - 1) as u32
-                })
-            });
-            if tri[0] != tri[1] && tri[1] != tri[2] && tri[2] != tri[0] {
-                out.mesh.triangles.push(tri);
+                };
+                let on_face = edge.iter().any(|&h| h == 0 || usize::from(h) == HALF - 1);
+                ids.push(if on_face {
+                    let global = [0, 1, 2]
+                        .map(|a| i64::from(edge[a]) + 2 * i64::from(key[a]) * i64::from(BLOCK));
+                    *shared.entry(global).or_insert_with(push)
+                } else {
+                    push()
+                });
+            }
+            for t in &part.triangles {
+                let tri = t.map(|i| ids[i as usize]);
+                if tri[0] != tri[1] && tri[1] != tri[2] && tri[2] != tri[0] {
+                    out.mesh.triangles.push(tri);
+                }
             }
         }
         out
     }
 
-    /// The triangles of the cells of block `key` whose corners were all observed.
-    fn block_triangles(&self, key: [i32; 3]) -> Vec<[Corner; 3]> {
+    /// The triangles of the cells of block `key` whose corners were all observed, their
+    /// vertices welded by the cell edge they lie on.
+    fn block_mesh(&self, key: [i32; 3]) -> BlockMesh {
         let min = self.params().min_observations;
         // mcubes' convention: inside where the value is above the level, so −TSDF.
         let mut density = vec![-1.0f32; SPAN * SPAN * SPAN];
@@ -106,8 +131,9 @@ impl TsdfVolume {
                 }
             }
         }
+        let mut out = BlockMesh::default();
         if !(inside && outside) {
-            return Vec::new();
+            return out;
         }
         let Ok(cubes) = MarchingCubes::new(
             (SPAN, SPAN, SPAN),
@@ -117,52 +143,59 @@ impl TsdfVolume {
             density,
             0.0,
         ) else {
-            return Vec::new();
+            return out;
         };
         // With −TSDF as the density, the tables' own winding (`InsideOnly`) is the one
         // counter-clockwise seen from outside (the sphere test checks it).
         let soup = cubes.generate(MeshSide::InsideOnly);
         let observed_cell = |c: [f32; 3]| {
-            let cell = c.map(|x| (x.floor().max(0.0) as usize).min(SPAN - 2));
+            let cell = c.map(|x| (x.max(0.0) as usize).min(SPAN - 2));
             (0..8).all(|k: usize| {
                 let p = [0, 1, 2].map(|a| cell[a] + ((k >> a) & 1));
                 seen[p[0] + SPAN * (p[1] + SPAN * p[2])]
             })
         };
-        let origin = Vector3::new(key[0], key[1], key[2]) * BLOCK;
-        let corner = |i: usize| -> Corner {
-            let v = &soup.vertices[i];
-            let edge = edge_key(v.posit);
-            let edge = [0, 1, 2].map(|a| edge[a] + 2 * i64::from(origin[a]));
-            let grid =
-                Vector3::new(v.posit.x, v.posit.y, v.posit.z).cast::<f64>() + origin.cast::<f64>();
-            let normal = Vector3::new(v.normal.x, v.normal.y, v.normal.z).cast::<f64>();
-            (edge, grid, normal)
-        };
-        soup.indices
-            .chunks_exact(3)
-            .filter(|t| {
-                let sum = soup.vertices[t[0]].posit
-                    + soup.vertices[t[1]].posit
-                    + soup.vertices[t[2]].posit;
-                observed_cell([sum.x, sum.y, sum.z].map(|c| c / 3.0))
-            })
-            .map(|t| [corner(t[0]), corner(t[1]), corner(t[2])])
-            .collect()
+        let origin = (Vector3::new(key[0], key[1], key[2]) * BLOCK).cast::<f64>();
+        let mut slot = vec![u32::MAX; HALF * HALF * HALF];
+        for t in soup.indices.chunks_exact(3) {
+            let sum =
+                soup.vertices[t[0]].posit + soup.vertices[t[1]].posit + soup.vertices[t[2]].posit;
+            if !observed_cell([sum.x, sum.y, sum.z].map(|c| c / 3.0)) {
+                continue;
+            }
+            let tri = [t[0], t[1], t[2]].map(|i| {
+                let v = &soup.vertices[i];
+                let edge = edge_key(v.posit);
+                let at = &mut slot[usize::from(edge[0])
+                    + HALF * (usize::from(edge[1]) + HALF * usize::from(edge[2]))];
+                if *at == u32::MAX {
+                    *at = out.vertices.len() as u32;
+                    let grid = Vector3::new(v.posit.x, v.posit.y, v.posit.z).cast::<f64>() + origin;
+                    let normal = Vector3::new(v.normal.x, v.normal.y, v.normal.z).cast::<f64>();
+                    out.vertices.push((edge, grid, normal));
+                }
+                *at
+            });
+            out.triangles.push(tri);
+        }
+        out
     }
 }
 
 /// The cell edge (or corner) a marching-cubes vertex lies on, in half-voxel units: the two
 /// cells sharing an edge interpolate it from opposite ends, so their positions can differ
 /// in the last bit and are welded by the edge, not by the position.
-fn edge_key(p: Vec3) -> [i64; 3] {
+fn edge_key(p: Vec3) -> [u8; 3] {
     [p.x, p.y, p.z].map(|c| {
-        let r = c.round();
-        if (c - r).abs() < 1e-4 {
-            2 * r as i64
+        // Block coordinates are non-negative: truncation is the floor.
+        let c = c.max(0.0);
+        let r = (c + 0.5) as u32 as f32;
+        let half = if (c - r).abs() < 1e-4 {
+            2.0 * r
         } else {
-            2 * c.floor() as i64 + 1
-        }
+            2.0 * (c as u32 as f32) + 1.0
+        };
+        half.min((HALF - 1) as f32) as u8
     })
 }
 

@@ -58,8 +58,9 @@ impl PinholeIntrinsics {
         if p.z <= 0.0 {
             return None;
         }
-        let u = (self.fx * p.x / p.z + self.cx + 0.5).floor();
-        let v = (self.fy * p.y / p.z + self.cy + 0.5).floor();
+        let u = self.fx * p.x / p.z + self.cx + 0.5;
+        let v = self.fy * p.y / p.z + self.cy + 0.5;
+        // Non-negative, so truncation is the floor (without `floor`'s library call).
         (u >= 0.0 && v >= 0.0 && u < self.width as f64 && v < self.height as f64)
             .then_some((u as usize, v as usize))
     }
