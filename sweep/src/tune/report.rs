@@ -490,6 +490,7 @@ fn convergence_svg(c: &Convergence) -> Result<String> {
     chart
         .configure_mesh()
         .x_desc("trials")
+        .x_label_formatter(&|x| format!("{x:.0}"))
         .y_desc(c.measure.as_str())
         .draw()
         .map_err(|e| invalid!("{e}"))?;
