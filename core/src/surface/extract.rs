@@ -182,9 +182,10 @@ impl TsdfVolume {
     }
 }
 
-/// The cell edge (or corner) a marching-cubes vertex lies on, in half-voxel units: the two
-/// cells sharing an edge interpolate it from opposite ends, so their positions can differ
-/// in the last bit and are welded by the edge, not by the position.
+/// The cell edge (or corner) a marching-cubes vertex at block coordinates `p` (voxel units,
+/// in `[0, BLOCK]`) lies on, in half-voxel units (`0 ..= 2·BLOCK`): the two cells sharing an
+/// edge interpolate it from opposite ends, so their positions can differ in the last bit
+/// and are welded by the edge, not by the position.
 fn edge_key(p: Vec3) -> [u8; 3] {
     [p.x, p.y, p.z].map(|c| {
         // Block coordinates are non-negative: truncation is the floor.

@@ -286,8 +286,22 @@ mod tests {
     use crate::rig::DepthCameraSpec;
     use crate::surface::PinholeIntrinsics;
     use nalgebra::Isometry3;
+    use proptest::prelude::*;
     use rand::SeedableRng;
     use rand_distr::{Distribution, Normal};
+
+    proptest! {
+        /// The integer-cast floor is `f64::floor` wherever blocks are keyed (integers,
+        /// negatives and values just beside them included).
+        #[test]
+        fn floor_is_the_floor(x in -1.0e6f64..1.0e6, i in -1000i32..1000) {
+            prop_assert_eq!(floor(x), x.floor() as i32);
+            let n = f64::from(i);
+            prop_assert_eq!(floor(n), i);
+            prop_assert_eq!(floor(n.next_down()), i - 1);
+            prop_assert_eq!(floor(n.next_up()), i);
+        }
+    }
 
     /// Eight noisy views of a wall 0.4 m away (σ = 5 mm a return, as the Dinast's averaged
     /// frames at 0.35 m): the fused wall stays on the wall. A drop-off starting one voxel
