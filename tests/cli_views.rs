@@ -129,7 +129,7 @@ fn the_object_surface_score_counts_part_of_each_view() {
 fn the_hull_score_chooses_nearly_the_best_first_view() {
     let objects = views(
         "paper-env1",
-        &["--no-plan", "--oracle", "--set", "nbv.hull_score=true"],
+        &["--no-plan", "--oracle", "--set", "nbv.hull_score=always"],
     );
     assert_eq!(objects.len(), 3);
     let (mut share, mut rho) = (0.0, 0.0);

@@ -333,6 +333,24 @@ fn bad_objective_and_cost_weight() {
         let scene = check(&with(&format!("objective = \"{}\"", o.name()))).unwrap();
         assert_eq!(scene.nbv.objective, o);
     }
+    // When the hull scores: three names; a bool is a parse error showing the line.
+    use nbv_core::nbv::HullScore;
+    assert_eq!(check(&env1()).unwrap().nbv.hull_score, HullScore::Off);
+    for (name, mode) in [
+        ("off", HullScore::Off),
+        ("after-stall", HullScore::AfterStall),
+        ("always", HullScore::Always),
+    ] {
+        let scene = check(&with(&format!("hull_score = \"{name}\""))).unwrap();
+        assert_eq!(scene.nbv.hull_score, mode);
+    }
+    let err = check(&with("hull_score = true")).unwrap_err();
+    let msg = err.to_string();
+    assert!(matches!(err, SceneError::Parse { .. }), "{msg}");
+    assert!(
+        msg.contains("hull_score = true") && msg.contains("line"),
+        "{msg}"
+    );
 }
 
 /// `[registration]` has three on/off keys; a switch folded into the method is an unknown

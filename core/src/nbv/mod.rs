@@ -32,6 +32,7 @@
 //!   gain_thr = 5 nats of Bernoulli KL divergence ([`NbvPreset::Paper`]); the project's
 //!   default is [`NbvPreset::Twin`].
 
+mod hull_score;
 mod hull_surface;
 mod information_gain;
 mod missed_voxels;
@@ -49,6 +50,7 @@ mod viewpoint_list;
 mod visibility;
 mod visited_views;
 
+pub use hull_score::HullScore;
 pub use hull_surface::HullSurface;
 pub use information_gain::InformationGain;
 pub use missed_voxels::MissedVoxels;

@@ -6,7 +6,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::{
-    GainMeasure, NbvParams, Objective, ScoreWeights, StopRule, ViewSphere, VisibilityForm,
+    GainMeasure, HullScore, NbvParams, Objective, ScoreWeights, StopRule, ViewSphere,
+    VisibilityForm,
 };
 
 /// Where the parameters of Algorithm 2 and its stop rule come from.
@@ -73,7 +74,7 @@ impl NbvPreset {
             objective: Objective::Paper,
             cost_weight: 0.0,
             object_surface: self == Self::Twin,
-            hull_score: false,
+            hull_score: HullScore::Off,
             free_above_objects: self == Self::Twin,
         }
     }

@@ -59,10 +59,10 @@ pub struct NbvParams {
     ///
     /// [`view_candidates`]: crate::pipeline::view_candidates
     pub object_surface: bool,
-    /// With `object_surface`, a candidate scores the unseen area of the object's convex
-    /// hull it would see ([`HullSurface`](super::HullSurface)) in place of eq. (4)'s
-    /// voxel count; false (default): eq. (4).
-    pub hull_score: bool,
+    /// With `object_surface`, when a candidate scores the unseen area of the object's
+    /// convex hull it would see ([`HullSurface`](super::HullSurface)) in place of eq. (4)'s
+    /// voxel count ([`HullScore`](super::HullScore)).
+    pub hull_score: super::HullScore,
     /// The planner takes the unknown space above every object phase 1 found (above the
     /// highest top of their regions, [`ExplorationMap::free_above`]) as free; false
     /// (default): every unknown voxel of M̄ is an obstacle, as in the paper.

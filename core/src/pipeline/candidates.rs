@@ -75,7 +75,7 @@ pub fn view_candidates(
         let flat = region
             .table
             .is_some_and(|t| region.top - t < HullSurface::FLAT_HEIGHT);
-        let hull = (nbv.params.hull_score && !flat)
+        let hull = (surface.hull && !flat)
             .then(|| HullSurface::new(surface.points, region.table, &map.grid))
             .flatten()
             .map(|h| h.without_seen_through(|q| surface.free_space.iter().any(|f| f.contains(q))));
@@ -116,6 +116,8 @@ pub struct ObjectSurface<'a> {
     pub points: &'a [Point3<f64>],
     /// Where its views saw empty space.
     pub free_space: &'a [DepthImageFreeSpace],
+    /// Score the candidates by the unseen hull ([`HullSurface`]) instead of eq. (4).
+    pub hull: bool,
 }
 
 /// Eq. (4) over the object's surface: of the candidate's O_v, only the voxels in the

@@ -148,9 +148,16 @@ impl<'a> ObjectLoop<'a> {
         let candidates = timed(&mut object.times.nbv, || -> Result<_, PipelineError> {
             let centre = viewing_centre(&object.cluster, &object.views, &self.region)
                 .ok_or_else(|| PipelineError::Config(format!("object {j} has no point")))?;
-            // What the hull score reads (`hull_score`): everything seen of the object, and
-            // where its views saw through.
-            let (points, free_space): (Vec<_>, Vec<_>) = if self.nbv.params.hull_score {
+            // A view that added less than the new-surface share: eq. (4) ranks this
+            // object's views poorly from here (`HullScore::AfterStall`).
+            let stalled = object
+                .views
+                .iter()
+                .any(|v| v.new_surface < ep.config.stop.new_surface);
+            let hull = self.nbv.params.hull_score.applies(stalled);
+            // What the hull score reads: everything seen of the object, and where its
+            // views saw through.
+            let (points, free_space): (Vec<_>, Vec<_>) = if hull {
                 (
                     object
                         .cluster
@@ -184,6 +191,7 @@ impl<'a> ObjectLoop<'a> {
                     missed: &self.missed,
                     points: &points,
                     free_space: &free_space,
+                    hull,
                 }),
             )
         })?;

@@ -3,7 +3,7 @@
 use super::Check;
 use crate::error::{Problem, SceneError};
 pub use nbv_core::nbv::NbvPreset;
-use nbv_core::nbv::{GainMeasure, Objective, VisitedViews};
+use nbv_core::nbv::{GainMeasure, HullScore, Objective, VisitedViews};
 use serde::{Deserialize, Serialize};
 
 /// Viewpoints on a sphere of radius `r` around the object centroid at inclinations
@@ -105,12 +105,14 @@ pub struct Nbv {
     /// ([`object_surface_score`](nbv_core::pipeline::object_surface_score)). Twin true,
     /// paper false (eq. (4) as printed).
     pub object_surface: bool,
-    /// With `object_surface`, a candidate scores the unseen area of the object's convex
-    /// hull (its points and their footprint on the table) it would see, facing it, at the
-    /// camera's return for the incidence, not hidden by another object
-    /// ([`HullSurface`](nbv_core::nbv::HullSurface)), in place of eq. (4)'s voxel count.
-    /// False in both presets (docs/exploration.md, "Scoring the unseen hull").
-    pub hull_score: bool,
+    /// With `object_surface`, when a candidate scores the unseen area of the object's
+    /// convex hull (its points and their footprint on the table) it would see, facing it,
+    /// at the camera's return for the incidence, not hidden by another object
+    /// ([`HullSurface`](nbv_core::nbv::HullSurface)), in place of eq. (4)'s voxel count:
+    /// `"off"`, `"after-stall"` (once a view of the object added less than `new_surface`)
+    /// or `"always"` ([`HullScore`]). `"off"` in both presets (docs/exploration.md,
+    /// "Scoring the unseen hull").
+    pub hull_score: HullScore,
     /// The planner takes the unknown space above every object phase 1 found (above the
     /// highest top of their regions) as free, not as an obstacle: the objects stand on the
     /// table and phase 1 saw each one's top, so nothing unknown stands higher; the known
@@ -210,7 +212,7 @@ struct NbvKeys {
     cost_weight: Option<f64>,
     relative_gain: Option<f64>,
     object_surface: Option<bool>,
-    hull_score: Option<bool>,
+    hull_score: Option<HullScore>,
     free_above_objects: Option<bool>,
     new_surface: Option<f64>,
     new_surface_views: Option<u32>,

@@ -1,0 +1,47 @@
+//! [`HullScore`]: when the unseen area of an object's hull ([`HullSurface`](super::HullSurface))
+//! ranks its candidates in place of eq. (4) over the object's surface.
+
+use serde::{Deserialize, Serialize};
+
+/// When the unseen hull scores an object's candidates (`[nbv] hull_score` in a scene,
+/// kebab-case names; with `object_surface`).
+///
+/// Eq. (4) counts voxels that may hold surface; the hull counts the unseen surface a view
+/// would return. Eq. (4) ranks well while there is much to see and poorly once the rest lies
+/// where its voxels mislead it (a bottle's far side behind the laser's shadow): it then picks
+/// views that add nothing. `AfterStall` keeps eq. (4) until a view of the object adds less
+/// than the new-surface share (`[nbv] new_surface`), then ranks that object's candidates by
+/// the hull, whose own stop ends the object once no candidate would see the rest
+/// (docs/exploration.md, "Scoring the unseen hull").
+///
+/// ```
+/// use nbv_core::nbv::HullScore;
+/// assert!(!HullScore::Off.applies(true));
+/// assert!(!HullScore::AfterStall.applies(false));
+/// assert!(HullScore::AfterStall.applies(true));
+/// assert!(HullScore::Always.applies(false));
+/// ```
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum HullScore {
+    /// Eq. (4) always.
+    #[default]
+    Off,
+    /// Eq. (4) until a view of the object adds less than the new-surface share, then the
+    /// hull.
+    AfterStall,
+    /// The hull from the first view on.
+    Always,
+}
+
+impl HullScore {
+    /// Whether the hull scores the next candidates of an object, given whether one of its
+    /// views `stalled` (added less than the new-surface share).
+    pub fn applies(self, stalled: bool) -> bool {
+        match self {
+            Self::Off => false,
+            Self::AfterStall => stalled,
+            Self::Always => true,
+        }
+    }
+}
