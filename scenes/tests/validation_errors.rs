@@ -333,7 +333,7 @@ fn bad_objective_and_cost_weight() {
         let scene = check(&with(&format!("objective = \"{}\"", o.name()))).unwrap();
         assert_eq!(scene.nbv.objective, o);
     }
-    // When the hull scores: three names; a bool is a parse error showing the line.
+    // When the hull scores: three names; a bool is a parse error naming them.
     use nbv_core::nbv::HullScore;
     assert_eq!(check(&env1()).unwrap().nbv.hull_score, HullScore::Off);
     for (name, mode) in [

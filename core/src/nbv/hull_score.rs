@@ -1,6 +1,7 @@
 //! [`HullScore`]: when the unseen area of an object's hull ([`HullSurface`](super::HullSurface))
 //! ranks its candidates in place of eq. (4) over the object's surface.
 
+use serde::de::{self, Deserializer, Visitor};
 use serde::{Deserialize, Serialize};
 
 /// When the unseen hull scores an object's candidates (`[nbv] hull_score` in a scene,
@@ -20,8 +21,10 @@ use serde::{Deserialize, Serialize};
 /// assert!(!HullScore::AfterStall.applies(false));
 /// assert!(HullScore::AfterStall.applies(true));
 /// assert!(HullScore::Always.applies(false));
+/// assert_eq!("after-stall".parse::<HullScore>(), Ok(HullScore::AfterStall));
+/// assert!("true".parse::<HullScore>().is_err());
 /// ```
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum HullScore {
     /// Eq. (4) always.
@@ -43,5 +46,39 @@ impl HullScore {
             Self::AfterStall => stalled,
             Self::Always => true,
         }
+    }
+}
+
+impl std::str::FromStr for HullScore {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "off" => Ok(Self::Off),
+            "after-stall" => Ok(Self::AfterStall),
+            "always" => Ok(Self::Always),
+            _ => Err(format!("{s:?} is not {NAMES}")),
+        }
+    }
+}
+
+/// The names a scene may give.
+const NAMES: &str = r#""off", "after-stall" or "always""#;
+
+/// From its name; any other value (a bool included) is an error that lists the names.
+impl<'de> Deserialize<'de> for HullScore {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Name;
+        impl Visitor<'_> for Name {
+            type Value = HullScore;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(NAMES)
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<HullScore, E> {
+                v.parse()
+                    .map_err(|_| E::invalid_value(de::Unexpected::Str(v), &self))
+            }
+        }
+        deserializer.deserialize_any(Name)
     }
 }
