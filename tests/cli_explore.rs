@@ -386,3 +386,67 @@ fn the_oracle_bounds_the_exploration() {
         .count();
     assert_eq!(o["wasted_views"].as_u64().unwrap() as usize, wasted);
 }
+
+/// `nbv.hull_score = "after-stall"` on the generated layout 19 (a bottle and a tall bottle,
+/// the bottle 0.89 m from the base): once a view adds nothing, the hull ranks candidates
+/// from the sphere at half its steps, and both objects reach 95 % of their ceiling in four
+/// views each; eq. (4) alone (`"off"`) leaves the tall bottle under it.
+#[test]
+fn after_a_stall_the_hull_takes_what_eq_4_leaves() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scene.toml");
+    let out = nbv(&[
+        "scene",
+        "generate",
+        "--seed",
+        "19",
+        "--objects",
+        "2",
+        "--shapes",
+        "all",
+        "-o",
+        path.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let scene = path.display().to_string();
+    let run = |mode: &str| {
+        let setting = format!("nbv.hull_score={mode}");
+        let r = explore(
+            &scene,
+            &dir.path().join(mode),
+            &[
+                "--no-pictures",
+                "--oracle",
+                "--seed",
+                "19",
+                "--set",
+                &setting,
+                "--set",
+                "registration.baselines=false",
+                "--set",
+                "registration.calibrate_hand_eye=false",
+            ],
+        );
+        // The layout's obstacle is a cluster too, with no oracle.
+        r["objects"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|o| o["oracle"].is_object())
+            .map(|o| {
+                let name = o["name"].as_str().unwrap().to_string();
+                let share = f(&o["oracle"]["coverage_of_ceiling"]);
+                (name, share, o["views"].as_array().unwrap().len())
+            })
+            .collect::<Vec<_>>()
+    };
+    let after = run("after-stall");
+    assert_eq!(after.len(), 2, "{after:?}");
+    for (name, share, views) in &after {
+        assert!(*share >= 0.95, "{name}: {share} of its ceiling");
+        assert!(*views <= 4, "{name}: {views} views");
+    }
+    let off = run("off");
+    let tall = off.iter().find(|o| o.0 == "tall-bottle").unwrap();
+    assert!(tall.1 < 0.95, "{off:?}");
+}

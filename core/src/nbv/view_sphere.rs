@@ -94,6 +94,23 @@ impl ViewSphere {
         Ok(())
     }
 
+    /// The same sphere at half its steps: every sample of this one and those between.
+    ///
+    /// ```
+    /// use nbv_core::nbv::NbvPreset;
+    /// let sphere = NbvPreset::Paper.sphere();
+    /// // Δθ 7.5° to 75° and Δφ 15°: 1 + 10·24 samples.
+    /// assert_eq!(sphere.refined().samples()?.len(), 241);
+    /// # Ok::<(), nbv_core::nbv::NbvError>(())
+    /// ```
+    pub fn refined(self) -> Self {
+        Self {
+            delta_theta: self.delta_theta / 2.0,
+            delta_phi: self.delta_phi / 2.0,
+            ..self
+        }
+    }
+
     /// The samples in Algorithm 2's loop order (i_θ outer, i_φ inner), duplicates removed
     /// (see the type's doc).
     pub fn samples(&self) -> Result<Vec<SphereSample>, NbvError> {

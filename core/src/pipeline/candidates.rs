@@ -60,6 +60,17 @@ pub fn view_candidates(
     let scored_on = seen_map.as_ref().unwrap_or(reduced);
     let planner = MotionPlanner::new(world, config.planner)?;
     let usable = |s: &IkSolution| !planner.world().in_collision(&s.joints);
+    // After a stall the hull's candidates come from the sphere at half its steps: what is
+    // left is a strip or a patch the coarse sphere's views see only past the grazing cut.
+    let refined;
+    let nbv = if surface.as_ref().is_some_and(|s| s.hull && s.stalled) {
+        let mut finer = nbv.clone();
+        finer.params.sphere = nbv.params.sphere.refined();
+        refined = finer;
+        &refined
+    } else {
+        nbv
+    };
     let mut list = nbv.candidates_scored(
         robot,
         scored_on,
@@ -118,6 +129,11 @@ pub struct ObjectSurface<'a> {
     pub free_space: &'a [DepthImageFreeSpace],
     /// Score the candidates by the unseen hull ([`HullSurface`]) instead of eq. (4).
     pub hull: bool,
+    /// A view of the object added less than the new-surface share: with `hull`, the
+    /// candidates come from the sphere at half its steps ([`ViewSphere::refined`]).
+    ///
+    /// [`ViewSphere::refined`]: crate::nbv::ViewSphere::refined
+    pub stalled: bool,
 }
 
 /// Eq. (4) over the object's surface: of the candidate's O_v, only the voxels in the

@@ -192,6 +192,7 @@ impl<'a> ObjectLoop<'a> {
                     points: &points,
                     free_space: &free_space,
                     hull,
+                    stalled,
                 }),
             )
         })?;
