@@ -10,14 +10,21 @@ use std::path::Path;
 
 /// A one-object scene from the generator (seed 3: a horse on the table).
 fn generated_scene(dir: &Path) -> String {
+    generated_layout(dir, "3", "1", "paper")
+}
+
+/// A scene from the generator: its `seed`, `objects` and `shapes` (`paper` or `all`).
+fn generated_layout(dir: &Path, seed: &str, objects: &str, shapes: &str) -> String {
     let path = dir.join("scene.toml");
     let out = nbv(&[
         "scene",
         "generate",
         "--seed",
-        "3",
+        seed,
         "--objects",
-        "1",
+        objects,
+        "--shapes",
+        shapes,
         "-o",
         path.to_str().unwrap(),
     ]);
@@ -394,21 +401,7 @@ fn the_oracle_bounds_the_exploration() {
 #[test]
 fn after_a_stall_the_hull_takes_what_eq_4_leaves() {
     let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("scene.toml");
-    let out = nbv(&[
-        "scene",
-        "generate",
-        "--seed",
-        "19",
-        "--objects",
-        "2",
-        "--shapes",
-        "all",
-        "-o",
-        path.to_str().unwrap(),
-    ]);
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    let scene = path.display().to_string();
+    let scene = generated_layout(dir.path(), "19", "2", "all");
     let run = |mode: &str| {
         let setting = format!("nbv.hull_score={mode}");
         let r = explore(
