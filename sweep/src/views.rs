@@ -169,7 +169,6 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
                 missed: &nbv_core::nbv::MissedVoxels::default(),
                 points: &cloud.points,
                 free_space: &[],
-                hull: nbv.params.hull_score.applies(false),
                 stalled: false,
             }),
         )?;

@@ -12,8 +12,8 @@ use serde::{Deserialize, Serialize};
 /// where its voxels mislead it (a bottle's far side behind the laser's shadow): it then picks
 /// views that add nothing. `AfterStall` keeps eq. (4) until a view of the object adds less
 /// than the new-surface share (`[nbv] new_surface`), then ranks that object's candidates by
-/// the hull, whose own stop ends the object once no candidate would see the rest. After a
-/// stall the hull's candidates come from the sphere at half its steps
+/// the hull, whose own stop ends the object once no candidate would see the rest. In either
+/// hull mode, after a stall the candidates come from the sphere at half its steps
 /// ([`ViewSphere::refined`](super::ViewSphere::refined)): what is left is a strip the
 /// coarse sphere sees only past the grazing cut (docs/exploration.md, "Scoring the unseen
 /// hull").

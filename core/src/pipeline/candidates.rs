@@ -60,10 +60,14 @@ pub fn view_candidates(
     let scored_on = seen_map.as_ref().unwrap_or(reduced);
     let planner = MotionPlanner::new(world, config.planner)?;
     let usable = |s: &IkSolution| !planner.world().in_collision(&s.joints);
-    // After a stall the hull's candidates come from the sphere at half its steps: what is
-    // left is a strip or a patch the coarse sphere's views see only past the grazing cut.
+    // The hull's mode for this round; after a stall in it the candidates come from the
+    // sphere at half its steps: what is left is a strip or a patch the coarse sphere's
+    // views see only past the grazing cut.
+    let hull_mode = surface
+        .as_ref()
+        .is_some_and(|s| nbv.params.hull_score.applies(s.stalled));
     let refined;
-    let nbv = if surface.as_ref().is_some_and(|s| s.hull && s.stalled) {
+    let nbv = if hull_mode && surface.as_ref().is_some_and(|s| s.stalled) {
         let mut finer = nbv.clone();
         finer.params.sphere = nbv.params.sphere.refined();
         refined = finer;
@@ -86,7 +90,7 @@ pub fn view_candidates(
         let flat = region
             .table
             .is_some_and(|t| region.top - t < HullSurface::FLAT_HEIGHT);
-        let hull = (surface.hull && !flat)
+        let hull = (hull_mode && !flat)
             .then(|| HullSurface::new(surface.points, region.table, &map.grid))
             .flatten()
             .map(|h| h.without_seen_through(|q| surface.free_space.iter().any(|f| f.contains(q))));
@@ -127,10 +131,10 @@ pub struct ObjectSurface<'a> {
     pub points: &'a [Point3<f64>],
     /// Where its views saw empty space.
     pub free_space: &'a [DepthImageFreeSpace],
-    /// Score the candidates by the unseen hull ([`HullSurface`]) instead of eq. (4).
-    pub hull: bool,
-    /// A view of the object added less than the new-surface share: with `hull`, the
-    /// candidates come from the sphere at half its steps ([`ViewSphere::refined`]).
+    /// A view of the object added less than the new-surface share: by
+    /// [`NbvParams::hull_score`](crate::nbv::NbvParams::hull_score), the unseen hull
+    /// ([`HullSurface`]) scores the candidates, and in a hull mode they come from the
+    /// sphere at half its steps ([`ViewSphere::refined`]).
     ///
     /// [`ViewSphere::refined`]: crate::nbv::ViewSphere::refined
     pub stalled: bool,

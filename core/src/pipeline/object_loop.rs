@@ -191,7 +191,6 @@ impl<'a> ObjectLoop<'a> {
                     missed: &self.missed,
                     points: &points,
                     free_space: &free_space,
-                    hull,
                     stalled,
                 }),
             )
