@@ -335,7 +335,10 @@ fn bad_objective_and_cost_weight() {
     }
     // When the hull scores: three names; a bool is a parse error naming them.
     use nbv_core::nbv::HullScore;
-    assert_eq!(check(&env1()).unwrap().nbv.hull_score, HullScore::Off);
+    assert_eq!(
+        check(&env1()).unwrap().nbv.hull_score,
+        HullScore::AfterStall
+    );
     for (name, mode) in [
         ("off", HullScore::Off),
         ("after-stall", HullScore::AfterStall),

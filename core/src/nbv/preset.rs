@@ -62,8 +62,9 @@ impl NbvPreset {
     /// Algorithm 2's parameters: the sphere, the paper's (α_u, α_o) = (4, 1), every 8th
     /// Dinast pixel in u and v (1200 rays; the paper does not say how D was subsampled),
     /// four rolls about the optical axis (eq. (3)'s first), eq. (4) ranking, and — twin
-    /// only — eq. (4) counting the object's surface and the unknown space above the
-    /// objects free for the planner.
+    /// only — eq. (4) counting the object's surface, the unseen hull ranking an object's
+    /// candidates once a view of it added nothing, and the unknown space above the objects
+    /// free for the planner.
     pub fn params(self) -> NbvParams {
         NbvParams {
             sphere: self.sphere(),
@@ -74,7 +75,10 @@ impl NbvPreset {
             objective: Objective::Paper,
             cost_weight: 0.0,
             object_surface: self == Self::Twin,
-            hull_score: HullScore::Off,
+            hull_score: match self {
+                Self::Paper => HullScore::Off,
+                Self::Twin => HullScore::AfterStall,
+            },
             free_above_objects: self == Self::Twin,
         }
     }

@@ -110,8 +110,8 @@ pub struct Nbv {
     /// at the camera's return for the incidence, not hidden by another object
     /// ([`HullSurface`](nbv_core::nbv::HullSurface)), in place of eq. (4)'s voxel count:
     /// `"off"`, `"after-stall"` (once a view of the object added less than `new_surface`)
-    /// or `"always"` ([`HullScore`]). `"off"` in both presets (docs/exploration.md,
-    /// "Scoring the unseen hull").
+    /// or `"always"` ([`HullScore`]). Twin `"after-stall"`, paper `"off"`
+    /// (docs/exploration.md, "Scoring the unseen hull").
     pub hull_score: HullScore,
     /// The planner takes the unknown space above every object phase 1 found (above the
     /// highest top of their regions) as free, not as an obstacle: the objects stand on the
