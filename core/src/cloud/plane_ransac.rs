@@ -79,6 +79,15 @@ impl PlaneFit {
         self.normal.dot(&p.coords) + self.offset
     }
 
+    /// The plane moved by `shift` (its inliers and rms unchanged): a point moved with it
+    /// keeps its signed distance.
+    pub fn translated(&self, shift: &Vector3<f64>) -> Self {
+        Self {
+            offset: self.offset - self.normal.dot(shift),
+            ..self.clone()
+        }
+    }
+
     /// Indices in `0..n` that are not inliers, ascending.
     pub fn outliers(&self, n: usize) -> Vec<usize> {
         let mut out = Vec::with_capacity(n.saturating_sub(self.inliers.len()));
@@ -407,5 +416,24 @@ mod tests {
             tilted.fit(&wall),
             Err(ProcessingError::NoPlaneFound { .. })
         ));
+    }
+
+    proptest::proptest! {
+        /// A point moved with the plane keeps its signed distance.
+        #[test]
+        fn a_point_moved_with_the_plane_keeps_its_distance(
+            n in proptest::array::uniform3(-1.0f64..1.0),
+            offset in -2.0f64..2.0,
+            p in proptest::array::uniform3(-2.0f64..2.0),
+            shift in proptest::array::uniform3(-0.5f64..0.5),
+        ) {
+            let v = Vector3::from(n);
+            proptest::prop_assume!(v.norm() > 0.1);
+            let plane = PlaneFit { normal: Unit::new_normalize(v), offset, inliers: vec![0, 3], rms: 0.001 };
+            let (p, shift) = (Point3::from(p), Vector3::from(shift));
+            let moved = plane.translated(&shift);
+            proptest::prop_assert!((moved.signed_distance(&(p + shift)) - plane.signed_distance(&p)).abs() < 1e-12);
+            proptest::prop_assert_eq!(moved.inliers, plane.inliers);
+        }
     }
 }

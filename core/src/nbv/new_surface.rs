@@ -139,17 +139,24 @@ const SETTLE_ITERATIONS: usize = 10;
 /// assert!(new_surface_share(&dome, &settled_onto(&moved, &dome), None) < 0.005);
 /// ```
 pub fn settled_onto(view: &[Point3<f64>], model: &[Point3<f64>]) -> Vec<Point3<f64>> {
+    let shift = settle_shift(view, model);
+    view.iter().map(|p| p + shift).collect()
+}
+
+/// The translation [`settled_onto`] moves `view` by (zero when the model is too small for
+/// normals). What moves with the view, its own table plane, moves by it too.
+pub fn settle_shift(view: &[Point3<f64>], model: &[Point3<f64>]) -> Vector3<f64> {
     let finite = |p: &&Point3<f64>| p.iter().all(|c| c.is_finite());
     let model = PointCloud::from_points(model.iter().filter(finite).copied().collect());
     if model.len() <= SETTLE_NEIGHBOURS {
-        return view.to_vec();
+        return Vector3::zeros();
     }
     let Ok(normals) = estimate_normals(&model, SETTLE_NEIGHBOURS) else {
-        return view.to_vec();
+        return Vector3::zeros();
     };
     let coords: Vec<[f64; 3]> = model.points.iter().map(|p| [p.x, p.y, p.z]).collect();
     let Ok(tree) = ImmutableKdTree::<f64, 3>::builder().build_from_slice(&coords) else {
-        return view.to_vec();
+        return Vector3::zeros();
     };
     let mut shift = Vector3::zeros();
     for _ in 0..SETTLE_ITERATIONS {
@@ -182,7 +189,7 @@ pub fn settled_onto(view: &[Point3<f64>], model: &[Point3<f64>]) -> Vec<Point3<f
             break;
         }
     }
-    view.iter().map(|p| p + shift).collect()
+    shift
 }
 
 #[cfg(test)]
@@ -289,6 +296,40 @@ mod tests {
         let skirt = patch(0.12, 0.05, 0.1, 0.004);
         assert!(new_surface_share(&model, &skirt, None) > 0.2);
         assert_eq!(new_surface_share(&model, &skirt, Some(&table())), 0.0);
+    }
+
+    /// A view lies 6 mm low with its own table: settled up onto the model, its table moves
+    /// with it, and the base the margin hides stays hidden (the same share as the view
+    /// without the error); against its table left behind, the base counts as new.
+    #[test]
+    fn the_table_moves_with_the_settled_view() {
+        use std::f64::consts::PI;
+        let lid: Vec<Point3<f64>> = patch(0.76, 0.08, 0.08, 0.117)
+            .into_iter()
+            .map(|p| p - Vector3::new(0.0, 0.04, 0.0))
+            .filter(|p| (p.x - 0.8).hypot(p.y) < 0.04)
+            .collect();
+        let model: Vec<Point3<f64>> = cylinder(-PI / 2.0, PI / 2.0)
+            .into_iter()
+            .filter(|p| p.z >= 0.03)
+            .chain(lid.iter().copied())
+            .collect();
+        let view: Vec<Point3<f64>> = cylinder(-PI / 2.0, PI / 2.0)
+            .into_iter()
+            .chain(lid)
+            .collect();
+        let error = Vector3::new(0.0, 0.0, -0.006);
+        let low: Vec<Point3<f64>> = view.iter().map(|p| p + error).collect();
+        let low_table = table().translated(&error);
+        let truth = new_surface_share(&model, &view, Some(&table()));
+        let shift = settle_shift(&low, &model);
+        assert!((shift + error).norm() < 0.001, "{shift:?}");
+        let settled: Vec<Point3<f64>> = low.iter().map(|p| p + shift).collect();
+        let moved = new_surface_share(&model, &settled, Some(&low_table.translated(&shift)));
+        let left = new_surface_share(&model, &settled, Some(&low_table));
+        assert!(truth > 0.05, "{truth}");
+        assert!((moved - truth).abs() < 0.1 * truth, "{moved} {truth}");
+        assert!(left > 1.3 * truth, "{left} {truth}");
     }
 
     #[test]

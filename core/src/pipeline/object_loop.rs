@@ -16,7 +16,7 @@ use crate::cloud::{PlaneFit, PointCloud};
 use crate::math::Pose;
 use crate::nbv::{
     Candidate, InformationGain, MissedVoxels, NextBestView, StopReason, SurfaceSides, VisitedViews,
-    lazy_best, movement_cost_total, new_surface_share, settled_onto,
+    lazy_best, movement_cost_total, new_surface_share, settle_shift,
 };
 use crate::planning::PlannedPath;
 use crate::rig::RigError;
@@ -402,13 +402,16 @@ impl<'a> ObjectLoop<'a> {
             .copied()
             .collect();
         // With the object's surface, the view is counted where it lies on the earlier
-        // ones (its pose error moves it by a centimetre or two), above its own table.
-        let counted = if self.nbv.params.object_surface {
-            settled_onto(&cloud.points, &model)
+        // ones (its pose error moves it by a centimetre or two), above its own table
+        // moved with it.
+        let shift = if self.nbv.params.object_surface {
+            settle_shift(&cloud.points, &model)
         } else {
-            cloud.points.clone()
+            nalgebra::Vector3::zeros()
         };
-        let new_surface = new_surface_share(&model, &counted, table);
+        let counted: Vec<_> = cloud.points.iter().map(|p| p + shift).collect();
+        let counted_table = table.map(|t| t.translated(&shift));
+        let new_surface = new_surface_share(&model, &counted, counted_table.as_ref());
         let first_points = object.views.is_empty().then_some(cloud.len());
         let gain = seen.gain;
         object.views.push(AcquiredView {
