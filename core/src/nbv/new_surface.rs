@@ -14,7 +14,9 @@
 //! views, and the part of it that moved farther than 1 cm counted as new: on a bowl the
 //! laser had covered, 0.7–1.9 % per view, over the stop's 0.5 %, for five views.
 //! [`settled_onto`] moves the view onto the earlier points by the translation that lays
-//! it on them best before it is counted. Translation only: a rotation lets a view of a
+//! it on them best before it is counted ([`settle_shift`]), and the view's own table plane
+//! moves with it: against the table it was moved off, a view settled upwards showed its
+//! base above the margin (a bowl the first view had covered "added" 3.3 % of its surface). Translation only: a rotation lets a view of a
 //! surface of revolution (a bottle) turn onto the side already seen, and its new side
 //! counted as nothing.
 //!
