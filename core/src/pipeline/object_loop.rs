@@ -18,7 +18,7 @@ use crate::nbv::{
     Candidate, InformationGain, MissedVoxels, NextBestView, StopReason, SurfaceSides, VisitedViews,
     lazy_best, movement_cost_total, new_surface_share, settle_shift,
 };
-use crate::planning::{MotionPlanner, PlannedPath, PlanningError};
+use crate::planning::PlannedPath;
 use crate::rig::RigError;
 
 /// How far (m) one view can grow an object's region past its sides and top: twice the
@@ -264,14 +264,12 @@ impl<'a> ObjectLoop<'a> {
         } else {
             0.0
         };
-        // Candidates that ran out of the first pass's budget, best first.
-        let mut deferred: Vec<Candidate> = Vec::new();
         loop {
             let start = ep.rig.arm.joints()?;
             let seed_base = ep.config.seed ^ ((object.index as u64) << 32);
             let attempts = &mut self.attempts;
             // Plans to one candidate: its IK goals, a seed of its own.
-            let mut plan = |planner: &mut MotionPlanner, candidate: &Candidate| {
+            let mut plan = |candidate: &Candidate| {
                 *attempts += 1;
                 let seed = seed_base ^ *attempts;
                 let goals: Vec<_> = candidate
@@ -280,46 +278,27 @@ impl<'a> ObjectLoop<'a> {
                     .iter()
                     .map(|s| s.joints)
                     .collect();
-                plan_clearing_start(planner, &start, &goals, seed)
+                plan_clearing_start(&mut planner, &start, &goals, seed)
             };
             let next = timed(&mut object.times.planning, || {
                 if lambda > 0.0 {
-                    return lazy_best(
+                    lazy_best(
                         &mut list.candidates,
                         &start,
                         lambda,
                         total_cost,
-                        |c| plan(&mut planner, c),
+                        plan,
                         |p| p.stats.length_after_shortcut,
                     )
-                    .map(Some);
-                }
-                // Iterative deepening: each candidate first at a quarter of the budget
-                // (nine plans in ten that succeed need less); those that ran out of it,
-                // best first, at the whole budget once no other candidate was reached. A
-                // viewpoint no path reaches costs a quarter as long to pass over.
-                let full = planner.config().max_iterations;
-                let (candidate, budget) = match list.pop_first() {
-                    Some(c) => (c, (full / 4).max(1)),
-                    None if !deferred.is_empty() => (deferred.remove(0), full),
-                    None => return None,
-                };
-                planner.set_max_iterations(budget);
-                let planned = plan(&mut planner, &candidate);
-                planner.set_max_iterations(full);
-                match planned {
-                    Err(PlanningError::BudgetExhausted { .. }) if budget < full => {
-                        deferred.push(candidate);
-                        Some(None)
-                    }
-                    planned => Some(Some((candidate, planned))),
+                } else {
+                    list.pop_first().map(|c| {
+                        let planned = plan(&c);
+                        (c, planned)
+                    })
                 }
             });
-            let Some(next) = next else {
-                return Ok(Round::NoneReached);
-            };
             let Some((candidate, planned)) = next else {
-                continue;
+                return Ok(Round::NoneReached);
             };
             let planned = match planned {
                 Ok(p) => p,

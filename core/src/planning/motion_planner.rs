@@ -316,11 +316,6 @@ impl MotionPlanner {
         &self.config
     }
 
-    /// Sets the RRT-Connect budget of the next plans (at least 1).
-    pub fn set_max_iterations(&mut self, iterations: usize) {
-        self.config.max_iterations = iterations.max(1);
-    }
-
     /// The motion bound used for edges.
     pub fn motion_bound(&self) -> &MotionBound {
         &self.bound
