@@ -429,10 +429,16 @@ mod tests {
         ) {
             let v = Vector3::from(n);
             proptest::prop_assume!(v.norm() > 0.1);
-            let plane = PlaneFit { normal: Unit::new_normalize(v), offset, inliers: vec![0, 3], rms: 0.001 };
+            let plane = PlaneFit {
+                normal: Unit::new_normalize(v),
+                offset,
+                inliers: vec![0, 3],
+                rms: 0.001,
+            };
             let (p, shift) = (Point3::from(p), Vector3::from(shift));
             let moved = plane.translated(&shift);
-            proptest::prop_assert!((moved.signed_distance(&(p + shift)) - plane.signed_distance(&p)).abs() < 1e-12);
+            let change = moved.signed_distance(&(p + shift)) - plane.signed_distance(&p);
+            proptest::prop_assert!(change.abs() < 1e-12);
             proptest::prop_assert_eq!(moved.inliers, plane.inliers);
         }
     }

@@ -57,7 +57,6 @@ pub use missed_voxels::MissedVoxels;
 pub use nbv_error::NbvError;
 pub use new_surface::{
     NEW_SURFACE_CELL, NEW_SURFACE_DISTANCE, TABLE_MARGIN, new_surface_share, settle_shift,
-    settled_onto,
 };
 pub use objectives::{
     AreaRay, GainMap, Objective, RayVoxel, Visibility, VoxelClass, apply_movement_cost,

@@ -13,12 +13,12 @@
 //! A view lies where its pose error put it, up to a centimetre or two from the earlier
 //! views, and the part of it that moved farther than 1 cm counted as new: on a bowl the
 //! laser had covered, 0.7–1.9 % per view, over the stop's 0.5 %, for five views.
-//! [`settled_onto`] moves the view onto the earlier points by the translation that lays
-//! it on them best before it is counted ([`settle_shift`]), and the view's own table plane
-//! moves with it: against the table it was moved off, a view settled upwards showed its
-//! base above the margin (a bowl the first view had covered "added" 3.3 % of its surface). Translation only: a rotation lets a view of a
-//! surface of revolution (a bottle) turn onto the side already seen, and its new side
-//! counted as nothing.
+//! The view is moved onto the earlier points by the translation that lays it on them best
+//! ([`settle_shift`]) before it is counted, and its own table plane moves with it: against
+//! the table it was moved off, a view settled upwards showed its base above the margin (a
+//! bowl the first view had covered "added" 3.3 % of its surface). Translation only: a
+//! rotation lets a view of a surface of revolution (a bottle) turn onto the side already
+//! seen, and its new side counted as nothing.
 //!
 //! A new cell counts only beside another new cell: a flying pixel at a rim or a table
 //! return past the margin is a lone cell, and on a small object (a spatula's few hundred
@@ -112,25 +112,26 @@ pub fn new_surface_share(
     surface as f64 / before.max(1) as f64
 }
 
-/// Pairs farther apart than this (m) do not pull a view in [`settled_onto`]: beyond the
+/// Pairs farther apart than this (m) do not pull a view in [`settle_shift`]: beyond the
 /// views' pose error at three times the scenes' errors.
 const SETTLE_DISTANCE: f64 = 0.03;
 
-/// Neighbours of the model's PCA normals in [`settled_onto`].
+/// Neighbours of the model's PCA normals in [`settle_shift`].
 const SETTLE_NEIGHBOURS: usize = 10;
 
-/// Iterations of [`settled_onto`].
+/// Iterations of [`settle_shift`].
 const SETTLE_ITERATIONS: usize = 10;
 
-/// `view` moved onto `model` by the translation that minimises the point-to-plane
-/// distances of its points to their nearest model points (within 3 cm; the model's
-/// normals by PCA of 10 neighbours), ten Gauss–Newton steps from where it lies. The
-/// directions the pairs do not constrain (along a cylinder's axis) are damped and stay
-/// as they are. The view as it is when the model is too small for normals.
+/// The translation that lays `view` onto `model`: it minimises the point-to-plane
+/// distances of the view's points to their nearest model points (within 3 cm; the model's
+/// normals by PCA of 10 neighbours), ten Gauss–Newton steps from where the view lies. The
+/// directions the pairs do not constrain (along a cylinder's axis) are damped and stay as
+/// they are. Zero when the model is too small for normals. What moves with the view, its
+/// own table plane ([`PlaneFit::translated`]), moves by it too.
 ///
 /// ```
 /// use nalgebra::{Point3, Vector3};
-/// use nbv_core::nbv::{new_surface_share, settled_onto};
+/// use nbv_core::nbv::{new_surface_share, settle_shift};
 /// // A 5 cm dome seen again 2 cm higher: counted as new until settled onto the first.
 /// let dome: Vec<Point3<f64>> = (0..40).flat_map(|i| (0..120).map(move |j| {
 ///     let (t, f) = (1.5 * i as f64 / 40.0, std::f64::consts::TAU * j as f64 / 120.0);
@@ -138,15 +139,10 @@ const SETTLE_ITERATIONS: usize = 10;
 /// })).collect();
 /// let moved: Vec<_> = dome.iter().map(|p| p + Vector3::new(0.005, 0.0, 0.02)).collect();
 /// assert!(new_surface_share(&dome, &moved, None) > 0.05);
-/// assert!(new_surface_share(&dome, &settled_onto(&moved, &dome), None) < 0.005);
+/// let shift = settle_shift(&moved, &dome);
+/// let settled: Vec<_> = moved.iter().map(|p| p + shift).collect();
+/// assert!(new_surface_share(&dome, &settled, None) < 0.005);
 /// ```
-pub fn settled_onto(view: &[Point3<f64>], model: &[Point3<f64>]) -> Vec<Point3<f64>> {
-    let shift = settle_shift(view, model);
-    view.iter().map(|p| p + shift).collect()
-}
-
-/// The translation [`settled_onto`] moves `view` by (zero when the model is too small for
-/// normals). What moves with the view, its own table plane, moves by it too.
 pub fn settle_shift(view: &[Point3<f64>], model: &[Point3<f64>]) -> Vector3<f64> {
     let finite = |p: &&Point3<f64>| p.iter().all(|c| c.is_finite());
     let model = PointCloud::from_points(model.iter().filter(finite).copied().collect());
@@ -199,6 +195,12 @@ mod tests {
     use super::*;
     use nalgebra::{Unit, Vector3};
     use proptest::prelude::*;
+
+    /// `view` moved by [`settle_shift`] onto `model`.
+    fn settled_onto(view: &[Point3<f64>], model: &[Point3<f64>]) -> Vec<Point3<f64>> {
+        let shift = settle_shift(view, model);
+        view.iter().map(|p| p + shift).collect()
+    }
 
     /// Points of a w × h patch 2 mm apart in the plane z = `z`, from (x0, 0).
     fn patch(x0: f64, w: f64, h: f64, z: f64) -> Vec<Point3<f64>> {
