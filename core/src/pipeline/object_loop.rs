@@ -403,17 +403,19 @@ impl<'a> ObjectLoop<'a> {
             .collect();
         // The view's points as the registration smooths them: the averaged frame's range
         // noise (6 mm at 0.45 m) puts one point in eight past 1 cm off a surface already
-        // seen (docs/exploration.md, "The stop rule reads the surface the views added").
-        let counted = registration_cloud.as_ref().unwrap_or(&cloud);
+        // seen. An object lower than the smoothing's gate (a spatula) is pulled towards
+        // its table, and the rule sees less of it (docs/exploration.md, "The stop rule
+        // reads the surface the views added").
+        let smoothed = registration_cloud.as_ref().unwrap_or(&cloud);
         // With the object's surface, the view is counted where it lies on the earlier
         // ones (its pose error moves it by a centimetre or two), above its own table
         // moved with it.
         let shift = if self.nbv.params.object_surface {
-            settle_shift(&counted.points, &model)
+            settle_shift(&smoothed.points, &model)
         } else {
             nalgebra::Vector3::zeros()
         };
-        let counted: Vec<_> = counted.points.iter().map(|p| p + shift).collect();
+        let counted: Vec<_> = smoothed.points.iter().map(|p| p + shift).collect();
         let counted_table = table.map(|t| t.translated(&shift));
         let new_surface = new_surface_share(&model, &counted, counted_table.as_ref());
         let first_points = object.views.is_empty().then_some(cloud.len());
