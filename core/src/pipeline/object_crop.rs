@@ -130,7 +130,7 @@ impl ObjectRegion {
     pub const GROW_SIGMAS: f64 = 4.0;
 
     /// Band (m) about the table's height in which a view's own table is fitted.
-    const TABLE_BAND: f64 = 0.03;
+    pub const TABLE_BAND: f64 = 0.03;
 
     /// Fewest points outside the region a linked part needs to grow it: a stray return or
     /// two is no side of the object.

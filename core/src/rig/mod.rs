@@ -24,7 +24,7 @@ mod truth;
 pub use arm::{Arm, JointPath, Motion, TimedJoints};
 pub use depth_camera::{DepthCamera, DepthCameraSpec, DepthFrame};
 pub use frame_average::average_frames;
-pub use frame_smoothing::smooth_frame;
+pub use frame_smoothing::{GATE_SIGMAS, MIN_NEIGHBOURS, smooth_frame};
 pub use line_scanner::{LineScanner, LineScannerSpec, ScanLine};
 pub use no_return::no_return_pixels;
 pub use rig_error::RigError;
