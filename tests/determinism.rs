@@ -125,8 +125,8 @@ fn paper_env1_hybrid_is_the_same_on_one_and_two_threads() {
     // The rig's self-calibration: the injected hand-eye error is 0.70° and 5.4 mm; the
     // estimate (from the registrations and the table each view sees) is within the issue's
     // 0.1° and 1 mm of it (measured here: off by 0.06° and 0.7 mm from 19 views; over both
-    // paper scenes × seeds 1–10 at ×1, all 20 episodes within 0.1°, the worst 0.087° and
-    // 1.58 mm: docs/hand-eye.md, "How close it gets").
+    // paper scenes × seeds 1–10 at ×1, 19 of 20 episodes within 0.1°, the worst 0.109° and
+    // 1.48 mm: docs/hand-eye.md, "How close it gets").
     // Without the table the estimate was 0.12° off here.
     let h = &r["hand_eye"];
     let (dr, dt) = (
