@@ -404,8 +404,8 @@ impl<'a> ObjectLoop<'a> {
         // The view's points as the registration smooths them: the averaged frame's range
         // noise (6 mm at 0.45 m) puts one point in eight past 1 cm off a surface already
         // seen. An object lower than the smoothing's gate (a spatula) is pulled towards
-        // its table, and the rule sees less of it (docs/exploration.md, "The stop rule
-        // reads the surface the views added").
+        // its table, and the rule sees less of it; the earlier views are read as acquired
+        // (`nbv/new_surface.rs` says what that misses).
         let smoothed = registration_cloud.as_ref().unwrap_or(&cloud);
         // With the object's surface, the view is counted where it lies on the earlier
         // ones (its pose error moves it by a centimetre or two), above its own table
