@@ -2,19 +2,19 @@
 //! KinectFusion, Newcombe et al. 2011) in sparse blocks that follow the observed surface.
 //!
 //! For each depth view, the blocks its rays cross within the truncation distance of
-//! their returns are allocated; every voxel of those blocks is projected into the image, and the pixel it
-//! falls on gives the signed distance along that pixel's ray, `sdf = (d − z)·|ray|`
-//! (positive in front of the surface). Voxels more than the truncation behind the surface
-//! are left alone (the inside stays unobserved); the others take `min(1, sdf/μ)` into a
-//! weighted mean. The weight is the inverse variance of the return, `(σ_ref/σ(d))²` with
-//! the camera's noise model σ(d) (Nguyen et al. 2012's reading of the KinectFusion weight),
-//! and it tapers linearly to 0 from `max(voxel, 2σ(d))` behind the return to the truncation
-//! (voxblox's drop-off, Oleynikova et al. 2017), so a return does not pull the zero
-//! crossing of surface behind it (a thin wall seen from both sides). The taper starts two
-//! noise sigmas behind, not one voxel as in voxblox: a taper inside the noise band weighs
-//! the returns that fell behind the surface less than those that fell in front, and moves
-//! the zero crossing back by 0.4 mm at σ = 4 mm and 1.4 mm at σ = 6 mm (2 mm voxels, 16 mm
-//! truncation; docs/surface.md).
+//! their returns are allocated; every voxel of those blocks is projected into the image,
+//! and the depth at its exact projection — bilinear between the four pixel centres around
+//! it, the nearest pixel's where they lie across a jump — gives the signed distance along
+//! the voxel's ray, `sdf = (d − z)·|ray|` (positive in front of the surface). Voxels more
+//! than the truncation behind the surface are left alone (the inside stays unobserved);
+//! the others take `min(1, sdf/μ)` into a weighted mean. The weight is the inverse variance
+//! of the return, `(σ_ref/σ(d))²` with the camera's noise model σ(d) (Nguyen et al. 2012's
+//! reading of the KinectFusion weight), and it tapers linearly to 0 from `max(voxel, σ')`
+//! behind the return to the truncation (voxblox's drop-off, Oleynikova et al. 2017), so a
+//! return does not pull the zero crossing of surface behind it (a thin wall seen from both
+//! sides); σ' is the interpolated depth's noise, σ(d)·√Σwᵢ². Against the nearest pixel's
+//! depth with the drop-off from 2σ(d), on 72 objects' views (docs/surface.md): F-score at
+//! 2 mm 75.6 → 80.2 %, at 5 mm 94.5 → 95.6 %, Chamfer 1.68 → 1.53 mm.
 //!
 //! Deterministic: every voxel's update depends on the view and its own state only, so the
 //! blocks are updated in parallel in any order.
@@ -160,7 +160,7 @@ impl TsdfVolume {
         let mut mask = vec![false; self.blocks.len()];
         touched.iter().for_each(|&b| mask[b] = true);
         let (voxel, mu) = (self.params.voxel, self.params.truncation);
-        // Each pixel's return weight and where its drop-off starts, once per view.
+        // Each pixel's return weight and noise σ, once per view.
         let sigma_ref = sigma(0.5).max(1e-9);
         let pixel_weight: Vec<(f32, f64)> = view
             .depth
@@ -168,9 +168,9 @@ impl TsdfVolume {
             .map(|&d| {
                 if d.is_finite() && d > 0.0 {
                     let s = sigma(f64::from(d)).max(1e-9);
-                    ((sigma_ref / s).powi(2) as f32, (2.0 * s).max(voxel))
+                    ((sigma_ref / s).powi(2) as f32, s)
                 } else {
-                    (0.0, voxel)
+                    (0.0, 0.0)
                 }
             })
             .collect();
@@ -178,6 +178,7 @@ impl TsdfVolume {
         // A voxel's camera coordinates are linear in its index: one step per axis.
         let step = to_camera.rotation.to_rotation_matrix().into_inner() * voxel;
         let keys = &self.keys;
+        let (width, height) = (k.width as f64, k.height as f64);
         self.blocks
             .par_iter_mut()
             .enumerate()
@@ -188,19 +189,35 @@ impl TsdfVolume {
                 for i in 0..BLOCK_VOXELS {
                     let l = local_coords(i).cast::<f64>();
                     let c = origin + step * l;
-                    let Some((u, v)) = k.pixel_of(&c) else {
+                    if c.z <= 0.0 {
                         continue;
-                    };
-                    let pixel = v * k.width + u;
-                    let (weight, dropoff) = pixel_weight[pixel];
+                    }
+                    // The voxel's projection, and the pixel whose centre is nearest.
+                    let inv_z = 1.0 / c.z;
+                    let (x, y) = (k.fx * c.x * inv_z + k.cx, k.fy * c.y * inv_z + k.cy);
+                    let (un, vn) = (x + 0.5, y + 0.5);
+                    if !(un >= 0.0 && vn >= 0.0 && un < width && vn < height) {
+                        continue;
+                    }
+                    let pixel = vn as usize * k.width + un as usize;
+                    let (weight, sigma) = pixel_weight[pixel];
                     if weight <= 0.0 {
                         continue;
                     }
-                    let d = f64::from(view.depth[pixel]);
-                    let sdf = (d - c.z) * c.coords.norm() / c.z;
+                    // The return along the voxel's own ray; the pixel's own where its
+                    // neighbours did not return or lie across a jump.
+                    let (d, noise_sq) = interpolated_depth(view, x, y)
+                        .unwrap_or_else(|| (f64::from(view.depth[pixel]), 1.0));
+                    let sdf = (d - c.z) * c.coords.norm() * inv_z;
                     if sdf < -mu {
                         continue;
                     }
+                    // The drop-off starts at max(voxel, σ·√Σw²) behind the return.
+                    let dropoff = if sdf < -voxel {
+                        (sigma * noise_sq.sqrt()).max(voxel)
+                    } else {
+                        voxel
+                    };
                     let mut weight = f64::from(weight);
                     if sdf < -dropoff && dropoff < mu {
                         weight *= (mu + sdf) / (mu - dropoff);
@@ -280,6 +297,49 @@ fn local_coords(i: usize) -> Vector3<i32> {
     Vector3::new(i % BLOCK, (i / BLOCK) % BLOCK, i / (BLOCK * BLOCK))
 }
 
+/// Four neighbouring returns further apart than this (m) lie across a jump between two
+/// surfaces (a handle before its body), not on one surface seen through the camera's
+/// noise (σ ≤ 6 mm after a burst): the depth is not interpolated across it.
+const JUMP: f32 = 0.05;
+
+/// The depth at image point `(u, v)` (pixel centres at integers), bilinear between the
+/// four pixel centres around it, and the square of the factor by which that average
+/// lowers one return's noise, `Σwᵢ²` (1 at a pixel centre, ¼ midway between four); `None`
+/// unless all four returned within [`JUMP`] of each other.
+fn interpolated_depth(view: &DepthView, u: f64, v: f64) -> Option<(f64, f64)> {
+    let k = view.intrinsics;
+    if !(u >= 0.0 && v >= 0.0) {
+        return None;
+    }
+    let (u0, v0) = (u as usize, v as usize);
+    if u0 + 1 >= k.width || v0 + 1 >= k.height {
+        return None;
+    }
+    let (a, b) = (u - u0 as f64, v - v0 as f64);
+    let at = |uu: usize, vv: usize| view.depth[vv * k.width + uu];
+    let q = [
+        at(u0, v0),
+        at(u0 + 1, v0),
+        at(u0, v0 + 1),
+        at(u0 + 1, v0 + 1),
+    ];
+    if q.iter().any(|d| !(d.is_finite() && *d > 0.0)) {
+        return None;
+    }
+    let (lo, hi) = q
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(l, h), &d| (l.min(d), h.max(d)));
+    if hi - lo > JUMP {
+        return None;
+    }
+    let q = q.map(f64::from);
+    let w = [(1.0 - a) * (1.0 - b), a * (1.0 - b), (1.0 - a) * b, a * b];
+    Some((
+        w.iter().zip(q).map(|(w, q)| w * q).sum(),
+        w.iter().map(|w| w * w).sum::<f64>(),
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -300,6 +360,44 @@ mod tests {
             prop_assert_eq!(floor(n), i);
             prop_assert_eq!(floor(n.next_down()), i - 1);
             prop_assert_eq!(floor(n.next_up()), i);
+        }
+
+        /// On a wall turned 70° from the camera, the depth between pixel centres is the
+        /// wall's within a fifth of what the nearest pixel's can be off by (half a pixel's
+        /// change; the rest is the curvature of depth across the image, where 1/z, not z,
+        /// is linear); the noise factor's square lies in [¼, 1]. Across a step of more than
+        /// [`JUMP`] nothing is interpolated.
+        #[test]
+        fn the_depth_between_pixels_is_the_surfaces(
+            t in 0.0f64..1.0, v in 1.0f64..238.0, step in 0.06f64..0.3,
+        ) {
+            let k = PinholeIntrinsics::of_camera(&DepthCameraSpec::ipa1110());
+            // The wall z = 0.4 + x·tan 70°, as a depth image, between 0.2 and 1 m deep
+            // (rays with x/z in [−0.36, 0.21]).
+            let slope = 70f64.to_radians().tan();
+            let u = k.cx + k.fx * (-0.36 + 0.57 * t);
+            let z_at = |ray: Vector3<f64>| 0.4 / (1.0 - ray.x * slope);
+            let depth: Vec<f32> = (0..k.height)
+                .flat_map(|y| (0..k.width).map(move |x| (x, y)))
+                .map(|(x, y)| z_at(k.ray(x as f64, y as f64)) as f32)
+                .collect();
+            let view = DepthView { intrinsics: k, depth, pose: Isometry3::identity() };
+            let ray = k.ray(u, v);
+            let c = Point3::from(ray * z_at(ray));
+            let (d, noise_sq) = interpolated_depth(&view, u, v).unwrap();
+            // Within a fifth of the half pixel's change the nearest pixel can be off by.
+            let half_pixel = 0.5 * (z_at(k.ray(u + 0.5, v)) - z_at(k.ray(u - 0.5, v))).abs();
+            prop_assert!((d - c.z).abs() < 0.2 * half_pixel, "{d} against {}", c.z);
+            prop_assert!((0.25 - 1e-12..=1.0 + 1e-12).contains(&noise_sq));
+            // A step between columns: the four pixels around the step's edge.
+            let x0 = u.floor() as usize;
+            let stepped = DepthView {
+                depth: (0..k.width * k.height)
+                    .map(|i| if i % k.width <= x0 { 0.4 } else { 0.4 + step as f32 })
+                    .collect(),
+                ..view
+            };
+            prop_assert!(interpolated_depth(&stepped, x0 as f64 + 0.5, v).is_none());
         }
     }
 
