@@ -52,17 +52,26 @@ impl PinholeIntrinsics {
         Vector3::new((u - self.cx) / self.fx, (v - self.cy) / self.fy, 1.0)
     }
 
-    /// The pixel `(column, row)` whose centre is nearest to where `p` (camera frame)
-    /// projects, if it lies in front of the camera and inside the image.
-    pub fn pixel_of(&self, p: &Point3<f64>) -> Option<(usize, usize)> {
-        if p.z <= 0.0 {
-            return None;
-        }
-        let u = self.fx * p.x / p.z + self.cx + 0.5;
-        let v = self.fy * p.y / p.z + self.cy + 0.5;
+    /// Where `p` (camera frame) projects in the image, `(u, v)` with pixel centres at
+    /// integers, if it lies in front of the camera.
+    pub fn image_point(&self, p: &Point3<f64>) -> Option<(f64, f64)> {
+        (p.z > 0.0).then(|| (self.fx * p.x / p.z + self.cx, self.fy * p.y / p.z + self.cy))
+    }
+
+    /// The pixel `(column, row)` whose centre is nearest to image point `(u, v)`, if it
+    /// lies inside the image.
+    pub fn nearest_pixel(&self, u: f64, v: f64) -> Option<(usize, usize)> {
+        let (u, v) = (u + 0.5, v + 0.5);
         // Non-negative, so truncation is the floor (without `floor`'s library call).
         (u >= 0.0 && v >= 0.0 && u < self.width as f64 && v < self.height as f64)
             .then_some((u as usize, v as usize))
+    }
+
+    /// The pixel `(column, row)` whose centre is nearest to where `p` (camera frame)
+    /// projects, if it lies in front of the camera and inside the image.
+    pub fn pixel_of(&self, p: &Point3<f64>) -> Option<(usize, usize)> {
+        let (u, v) = self.image_point(p)?;
+        self.nearest_pixel(u, v)
     }
 
     /// Whether the numbers make a camera: a non-empty image, positive finite focal

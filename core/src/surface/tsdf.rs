@@ -178,7 +178,6 @@ impl TsdfVolume {
         // A voxel's camera coordinates are linear in its index: one step per axis.
         let step = to_camera.rotation.to_rotation_matrix().into_inner() * voxel;
         let keys = &self.keys;
-        let (width, height) = (k.width as f64, k.height as f64);
         self.blocks
             .par_iter_mut()
             .enumerate()
@@ -189,17 +188,14 @@ impl TsdfVolume {
                 for i in 0..BLOCK_VOXELS {
                     let l = local_coords(i).cast::<f64>();
                     let c = origin + step * l;
-                    if c.z <= 0.0 {
-                        continue;
-                    }
                     // The voxel's projection, and the pixel whose centre is nearest.
-                    let inv_z = 1.0 / c.z;
-                    let (x, y) = (k.fx * c.x * inv_z + k.cx, k.fy * c.y * inv_z + k.cy);
-                    let (un, vn) = (x + 0.5, y + 0.5);
-                    if !(un >= 0.0 && vn >= 0.0 && un < width && vn < height) {
+                    let Some((x, y)) = k.image_point(&c) else {
                         continue;
-                    }
-                    let pixel = vn as usize * k.width + un as usize;
+                    };
+                    let Some((u, v)) = k.nearest_pixel(x, y) else {
+                        continue;
+                    };
+                    let pixel = v * k.width + u;
                     let (weight, sigma) = pixel_weight[pixel];
                     if weight <= 0.0 {
                         continue;
@@ -208,7 +204,7 @@ impl TsdfVolume {
                     // neighbours did not return or lie across a jump.
                     let (d, noise_sq) = interpolated_depth(view, x, y)
                         .unwrap_or_else(|| (f64::from(view.depth[pixel]), 1.0));
-                    let sdf = (d - c.z) * c.coords.norm() * inv_z;
+                    let sdf = (d - c.z) * c.coords.norm() / c.z;
                     if sdf < -mu {
                         continue;
                     }
