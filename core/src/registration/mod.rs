@@ -189,6 +189,7 @@ pub fn register_with_models(
                 initial_poses,
                 models,
                 params,
+                params.max_correspondence_distance,
             )
         }
         Method::Gpa => gpa::run(views, initial_poses, params),
@@ -233,6 +234,28 @@ pub fn register_prepared_from(
     models: &[ViewModel],
     params: &RegistrationParams,
 ) -> Result<Registration, RegistrationError> {
+    register_prepared_within(
+        prepared,
+        views,
+        initial_poses,
+        start_poses,
+        models,
+        params,
+        params.max_correspondence_distance,
+    )
+}
+
+/// [`register_prepared_from`] with each point's nearest target point searched within
+/// `reach` (≤ `d_max`) only: a coarse-to-fine stage's.
+pub(crate) fn register_prepared_within(
+    prepared: &MapPreparation,
+    views: &[PointCloud],
+    initial_poses: &[Pose],
+    start_poses: &[Pose],
+    models: &[ViewModel],
+    params: &RegistrationParams,
+    reach: f64,
+) -> Result<Registration, RegistrationError> {
     check_input(views, initial_poses, models, params)?;
     if start_poses.len() != views.len() {
         return Err(RegistrationError::PoseCountMismatch {
@@ -246,7 +269,15 @@ pub fn register_prepared_from(
         ));
     }
     prepared.check_matches(views, models, params)?;
-    map::run(prepared, views, initial_poses, start_poses, models, params)
+    map::run(
+        prepared,
+        views,
+        initial_poses,
+        start_poses,
+        models,
+        params,
+        reach.min(params.max_correspondence_distance),
+    )
 }
 
 /// The checks every registration runs on its input: valid parameters, the views

@@ -69,7 +69,6 @@ pub fn assign_sensor_origins(views: &mut [PointCloud], rule: SensorOrigin) -> Ve
             if view.origins.is_some() || rule != SensorOrigin::Auto || view.is_empty() {
                 return None;
             }
-            let direction = estimate_view_direction(view)?;
             let centroid =
                 view.points.iter().map(|p| p.coords).sum::<Vector3<f64>>() / view.len() as f64;
             let radius = view
@@ -77,9 +76,14 @@ pub fn assign_sensor_origins(views: &mut [PointCloud], rule: SensorOrigin) -> Ve
                 .iter()
                 .map(|p| (p.coords - centroid).norm())
                 .fold(0.0, f64::max);
+            // A frame's origin away from the points is kept whatever the estimate says:
+            // the estimate is made only for the others.
+            if centroid.norm() >= ORIGIN_AMONG_POINTS * radius {
+                return None;
+            }
+            let direction = estimate_view_direction(view)?;
             let behind = -centroid.dot(&direction) < 0.0;
-            let among = centroid.norm() < ORIGIN_AMONG_POINTS * radius;
-            (behind && among).then_some(direction.into_inner())
+            behind.then_some(direction.into_inner())
         })
         .collect();
     let frames_are_sensors = along.iter().all(Option::is_none);

@@ -117,8 +117,14 @@ pub(crate) struct Kernel {
     pub floor: f64,
     /// A point counts as matched (for masks) within this many σ.
     pub select: f64,
-    /// `d_max` (m).
+    /// Distance (m) within which a point's nearest target point is searched: `d_max`, or
+    /// a coarse-to-fine stage's own (see [`register_coarse_to_fine`]).
+    ///
+    /// [`register_coarse_to_fine`]: crate::registration::register_coarse_to_fine
     pub max_distance: f64,
+    /// `d_max` (m), whatever the stage: `L`, the freedom to slide along a target's plane,
+    /// and the reach of the overlap test that pairs the views.
+    pub d_max: f64,
     /// Match a point to the target's surfel where its viewing ray crosses the target's
     /// surface, not to its nearest one (see the module doc).
     pub along_rays: bool,
@@ -411,7 +417,7 @@ fn chunk_sums(
     // surfaces that face it.
     let eye = to_target * src.centre;
     let slide = 0.25 * dst.spacing * dst.spacing;
-    let plane_slack = kernel.max_distance * kernel.max_distance;
+    let plane_slack = kernel.d_max * kernel.d_max;
     let floor = kernel.floor * kernel.floor;
     let mut s = Sums {
         cost: 0.0,
