@@ -423,10 +423,11 @@ fn matching_along_the_rays_agrees_with_the_nearest_on_noise_free_views() {
 }
 
 /// A camera view of a thin cylinder with 6 mm of noise along its rays, started at the
-/// truth: matched along the rays it stays where matched
-/// at its nearest reference points, within 0.1 mm at each of three seeds (measured: 1.45,
-/// 0.33, 0.25 mm nearest; 1.45, 0.34, 0.25 mm along the rays): the truth is a fixed point
-/// of both.
+/// truth: matched along the rays it ends no farther from the truth than matched at its
+/// nearest reference points (within 0.1 mm), and within 2 mm, at each of three seeds
+/// (measured: 1.40, 0.22, 0.25 mm nearest; 0.23, 0.25, 0.25 mm along the rays): the truth
+/// is a fixed point of both, and where the nearest points hold the view 1.4 mm off, the
+/// rays do not.
 ///
 /// Matching along the rays captures a view from less far off than nearest points do, so
 /// the pipeline matches along the rays only to refine a registration where it ended
@@ -445,7 +446,7 @@ fn matching_along_the_rays_keeps_a_noisy_view_started_at_the_truth() {
         };
         let (nearest, along) = (end(false), end(true));
         assert!(
-            (along - nearest).abs() < 1e-4 && along < 2e-3,
+            along < nearest + 1e-4 && along < 2e-3,
             "seed {seed}: along the rays {:.3} mm, nearest {:.3} mm off the truth",
             along * 1e3,
             nearest * 1e3
