@@ -17,13 +17,14 @@
 //!
 //! Levenberg–Marquardt over all free views at once: each step solves the damped normal
 //! equations, the correspondences are searched again at the new poses and the step is
-//! kept only if `F` fell, else the damping grows until the step is at most half as long as
-//! the rejected one in the data's metric (while the damping is small against the system's
-//! diagonal, raising it barely shortens the step, and evaluating the same step again only
-//! rejects it again: 26 of the 68 evaluations on a user's ring of figurine scans). Each solve after a run's first starts
-//! at the damping of the last step taken (a stage starts where the last one ended; from
-//! the first solve's damping every later stage spent five or more rejected steps
-//! climbing back to it on the paper's Table II case). It stops converged when a step would
+//! kept only if `F` fell, else the damping grows until the step is at most half as long
+//! as the rejected one in the data's metric (while the damping is small against the
+//! system's diagonal, raising it barely shortens the step, and evaluating the same step
+//! again only rejects it again: 26 of the 68 evaluations on a user's ring of figurine
+//! scans). Each solve after a run's first starts at the damping of the last step taken
+//! (a stage starts where the last one ended; from the first solve's damping every later
+//! stage spent five or more rejected steps climbing back to it on the paper's Table II
+//! case). It stops converged when a step would
 //! turn no view by more than `rotation_tolerance` and move no view's centroid by more than
 //! `translation_tolerance`, whatever the damping that shortened it, without evaluating
 //! that step (it could move the poses by less than the tolerance; the data term is
@@ -218,7 +219,7 @@ impl<'a> Problem<'a> {
             scale: map.kernel_scale,
             cap: map.outlier_sigmas,
             floor: map.floor_sigma,
-            max_distance: reach,
+            reach,
             d_max: params.max_correspondence_distance,
             along_rays: map.along_rays,
         };
@@ -233,7 +234,7 @@ impl<'a> Problem<'a> {
         );
         let keys: Vec<CacheKey> = pairs
             .iter()
-            .map(|p| (p.source, p.target, p.stride, kernel.max_distance.to_bits()))
+            .map(|p| (p.source, p.target, p.stride, kernel.reach.to_bits()))
             .collect();
         let nearest = pairs
             .iter()
@@ -241,7 +242,7 @@ impl<'a> Problem<'a> {
             .map(|(pair, &key)| {
                 prepared
                     .take_cache(key)
-                    .unwrap_or_else(|| PairNearest::new(views, pair, kernel.max_distance))
+                    .unwrap_or_else(|| PairNearest::new(views, pair, kernel.reach))
             })
             .collect();
         let problem = Problem {

@@ -1,5 +1,6 @@
 //! The data term of the maximum a posteriori registration, at given poses: correspondences
-//! (each source point's nearest point of a target view within `d_max`), their residuals
+//! (each source point's nearest point of a target view within the kernel's reach: `d_max`,
+//! or a coarse-to-fine stage's own), their residuals
 //! weighted by the sensors' noise, the robust kernel, and the Gauss–Newton normal
 //! equations of all views at once.
 //!
@@ -27,7 +28,7 @@
 //! source's noise — weighted by the spacing alone, a box's edges dragged noisy camera
 //! views sideways by millimetres. The cost of a correspondence is the truncated Cauchy
 //! kernel `ρ(m²) = c²/2·ln(1 + m²/c²)` of its Mahalanobis distance `m² = eᵀC⁻¹e`, capped at
-//! `m = cap`; a source point without a target point within `d_max` costs the cap. A source
+//! `m = cap`; a source point without a target point within reach costs the cap. A source
 //! point beyond the edge of what the target saw (its nearest target point lies on the
 //! target's boundary, and the point lies outside it: see [`MapView`]) pulls nothing and
 //! costs what a true match is expected to cost (`ρ` at `m²` = the residual's constrained
@@ -121,7 +122,7 @@ pub(crate) struct Kernel {
     /// a coarse-to-fine stage's own (see [`register_coarse_to_fine`]).
     ///
     /// [`register_coarse_to_fine`]: crate::registration::register_coarse_to_fine
-    pub max_distance: f64,
+    pub reach: f64,
     /// `d_max` (m), whatever the stage: `L`, the freedom to slide along a target's plane,
     /// and the reach of the overlap test that pairs the views.
     pub d_max: f64,
@@ -450,7 +451,7 @@ fn chunk_sums(
                 .as_ref()
                 .map(|f| f.contains(&x) && f.contains(&(x + ray * src.sigmas[i])))
         };
-        let Some((j, _)) = entry.within(kernel.max_distance) else {
+        let Some((j, _)) = entry.within(kernel.reach) else {
             // Out of reach: an outlier, unless the target's sensor never looked there.
             s.cost += pair.weight
                 * match seen_through() {
@@ -478,7 +479,7 @@ fn chunk_sums(
         let (j, surfel) = if contradicts || !kernel.along_rays {
             (j, surfel)
         } else {
-            let k = along_ray(dst, j, &x, &ray, kernel.max_distance);
+            let k = along_ray(dst, j, &x, &ray, kernel.reach);
             (k, &dst.surfels[k])
         };
         let (y, normal) = if contradicts {
