@@ -123,30 +123,38 @@ pub(crate) fn run(
     let (mut problem, keys) = Problem::new(prepared, initial, models, params, reach);
     let w = clouds.len();
     let corrections = starting_corrections(initial, start, params.reference, w);
-    let solution = problem.solve_in_stages(corrections, params);
-    let poses: Vec<Pose> = (0..w)
-        .map(|v| {
-            if v == params.reference {
-                initial[v]
-            } else {
-                solution.state.corrections[v] * initial[v]
-            }
-        })
-        .collect();
+    let mut solution = problem.solve_in_stages(corrections, params);
+    solution.objective_initial = problem.objective_at_initial(solution.at_initial.take(), w);
+    solution.evaluations += 1;
+    let poses = solution.poses(initial, params.reference);
     let report = problem.report(&solution);
     let converged = solution.stop == StopReason::Converged;
     let rms = report.rms;
-    let caches = problem
-        .nearest
-        .into_inner()
-        .unwrap_or_else(std::sync::PoisonError::into_inner);
-    prepared.keep_caches(keys.into_iter().zip(caches));
+    problem.keep_caches(prepared, keys);
     Ok(Registration {
         poses,
         converged,
         rms,
         report: MethodReport::Map(Box::new(report)),
     })
+}
+
+/// The poses [`run`] ends at, without its report (a coarse-to-fine stage's): the
+/// objective at the initial poses, which only the report reads, is not evaluated.
+pub(crate) fn solve(
+    prepared: &MapPreparation,
+    clouds: &[PointCloud],
+    initial: &[Pose],
+    start: &[Pose],
+    models: &[ViewModel],
+    params: &RegistrationParams,
+    reach: f64,
+) -> Vec<Pose> {
+    let (mut problem, keys) = Problem::new(prepared, initial, models, params, reach);
+    let corrections = starting_corrections(initial, start, params.reference, clouds.len());
+    let solution = problem.solve_in_stages(corrections, params);
+    problem.keep_caches(prepared, keys);
+    solution.poses(initial, params.reference)
 }
 
 /// Each of the `w` views' correction from its initial pose to its starting pose: exactly
@@ -176,8 +184,26 @@ struct Solution {
     iterations: usize,
     /// Objective evaluations over all stages.
     evaluations: usize,
-    /// The objective at the initial poses (the reported ones).
+    /// The objective at the initial poses (the reported ones), once evaluated.
     objective_initial: f64,
+    /// The correspondences at the initial poses, when the run started there.
+    at_initial: Option<Vec<PairNearest>>,
+}
+
+impl Solution {
+    /// Each view's pose: its correction applied to its initial pose, exactly the initial
+    /// pose for the `reference`.
+    fn poses(&self, initial: &[Pose], reference: usize) -> Vec<Pose> {
+        (0..initial.len())
+            .map(|v| {
+                if v == reference {
+                    initial[v]
+                } else {
+                    self.state.corrections[v] * initial[v]
+                }
+            })
+            .collect()
+    }
 }
 
 /// The report's verdict in words: the registration is kept when it converged and the
@@ -262,7 +288,8 @@ impl<'a> Problem<'a> {
 impl Problem<'_> {
     /// The stages from `corrections`: each re-selects the points matched at the current
     /// poses and solves (with the χ² gate) until no view moves, `max_stages` or a solve
-    /// that did not converge; then the objective at the initial poses.
+    /// that did not converge. The objective at the initial poses is left to the caller
+    /// ([`objective_at_initial`](Self::objective_at_initial)).
     fn solve_in_stages(
         &mut self,
         mut corrections: Vec<Pose>,
@@ -302,16 +329,24 @@ impl Problem<'_> {
                 break (state, stop);
             }
         };
-        let objective_initial = self.objective_at_initial(at_initial, w);
-        evaluations += 1;
         Solution {
             state,
             stop,
             held,
             iterations,
             evaluations,
-            objective_initial,
+            objective_initial: f64::NAN,
+            at_initial,
         }
+    }
+
+    /// Keeps the pairs' nearest-point caches in `prepared` for its next run.
+    fn keep_caches(self, prepared: &MapPreparation, keys: Vec<CacheKey>) {
+        let caches = self
+            .nearest
+            .into_inner()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        prepared.keep_caches(keys.into_iter().zip(caches));
     }
 
     /// Whether a stage moved any view from `before` to `after` by more than ten times the
@@ -348,6 +383,7 @@ impl Problem<'_> {
             iterations,
             evaluations,
             objective_initial,
+            ..
         } = solution;
         let rms = (state.data.inlier_count > 0)
             .then(|| (state.data.sum_sq / state.data.inlier_count as f64).sqrt());
