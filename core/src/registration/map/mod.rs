@@ -76,6 +76,9 @@ use view::MapView;
 /// Source points sampled per pair for the overlap test.
 const OVERLAP_SAMPLES: usize = 200;
 
+/// Share of those samples with a target point within `d_max` that keeps a pair.
+const MIN_OVERLAP: f64 = 0.05;
+
 /// Damping bounds of Levenberg–Marquardt (the start of a run's first solve and of its
 /// first along the rays; each other solve starts at the damping of the last step taken).
 const LAMBDA_START: f64 = 1e-4;
@@ -705,28 +708,30 @@ fn select_pairs(
         .flat_map(|v| (0..w).filter(move |&t| t != v).map(move |t| (v, t)))
         .filter(|&(v, t)| v != reference || views[t].free_space.is_some())
         .collect();
-    let overlaps: Vec<f64> = candidates
+    let overlapping: Vec<bool> = candidates
         .par_iter()
         .map(|&(v, t)| {
             let to_target = initial[t].inverse() * initial[v];
             let points = views[v].tree.points();
             let step = points.len().div_ceil(OVERLAP_SAMPLES).max(1);
-            let sampled = points.iter().step_by(step);
-            let (hits, all) = sampled.fold((0usize, 0usize), |(h, a), p| {
+            let all = points.len().div_ceil(step);
+            // The hits only grow: the search stops at the share that keeps the pair.
+            let mut hits = 0usize;
+            points.iter().step_by(step).any(|p| {
                 let hit = views[t]
                     .tree
                     .nearest_within(&(to_target * p), kernel.d_max)
                     .is_some();
-                (h + usize::from(hit), a + 1)
-            });
-            hits as f64 / all.max(1) as f64
+                hits += usize::from(hit);
+                hits as f64 / all as f64 >= MIN_OVERLAP
+            })
         })
         .collect();
     candidates
         .into_iter()
-        .zip(overlaps)
-        .filter(|&((v, t), overlap)| {
-            overlap >= 0.05 && (view_to_view || t == reference || v == reference)
+        .zip(overlapping)
+        .filter(|&((v, t), overlapping)| {
+            overlapping && (view_to_view || t == reference || v == reference)
         })
         .map(|((v, t), _)| {
             if t == reference || v == reference {
