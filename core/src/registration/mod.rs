@@ -64,7 +64,9 @@ mod view_tree;
 pub use error::RegistrationError;
 pub use icp::align;
 pub use local_planes::NOISE_NEIGHBOURS;
-pub use map::coarse_to_fine::{COARSE_POINTS, coarse_sigmas, register_coarse_to_fine};
+pub use map::coarse_to_fine::{
+    COARSE_PAIR_POINTS, COARSE_POINTS, coarse_sigmas, register_coarse_to_fine,
+};
 pub use map::depth_image_free_space::DepthImageFreeSpace;
 pub use map::free_space::FreeSpace;
 pub use map::preparation::MapPreparation;
