@@ -6,9 +6,11 @@
 //! eigenvalue of the neighbourhood's covariance is `σ²·(k − 3)/k` for Gaussian noise of σ
 //! along the normal (the plane's three parameters absorb three of the k samples). The
 //! estimate is the median over a sample of each view's points, scaled back by `k/(k − 3)`,
-//! then the median over the views. The surface's curvature adds to it (a neighbourhood of
+//! then the median over the views (each view's on its own thread). The surface's curvature adds to it (a neighbourhood of
 //! radius r on a surface of radius R bends by r²/2R): it is an upper estimate on curved
 //! or sparsely sampled objects, which is the safe side for a registration's noise model.
+
+use rayon::prelude::*;
 
 use super::local_planes::{NOISE_NEIGHBOURS, sampled_local_planes};
 use crate::cloud::PointCloud;
@@ -33,7 +35,7 @@ const SAMPLES: usize = 1000;
 /// assert!((sigma - 0.0005).abs() < 0.0001, "{sigma}");
 /// ```
 pub fn estimate_range_sigma(views: &[PointCloud]) -> Option<f64> {
-    let mut per_view: Vec<f64> = views.iter().filter_map(view_sigma).collect();
+    let mut per_view: Vec<f64> = views.par_iter().filter_map(view_sigma).collect();
     median(&mut per_view)
 }
 
