@@ -95,6 +95,49 @@ impl MapPreparation {
         })
     }
 
+    /// The same views prepared with the models' noise (`models`, one per view): each view
+    /// as [`MapPreparation::new`] prepares it at that noise, without searching its
+    /// neighbourhoods again, and without free space or kept caches. `clouds` must be the
+    /// ones it was prepared from, checked as [`register_prepared`] checks them.
+    ///
+    /// [`register_prepared`]: crate::registration::register_prepared
+    pub(crate) fn with_noise(
+        &self,
+        clouds: &[PointCloud],
+        models: &[ViewModel],
+        params: &RegistrationParams,
+    ) -> Result<Self, RegistrationError> {
+        let unchanged: Vec<ViewModel> = self
+            .noises
+            .iter()
+            .zip(models)
+            .map(|(noise, m)| ViewModel {
+                noise: *noise,
+                prior: m.prior,
+            })
+            .collect();
+        self.check_matches(clouds, &unchanged, params)?;
+        crate::registration::check_input(
+            clouds,
+            &vec![Pose::identity(); clouds.len()],
+            models,
+            params,
+        )?;
+        Ok(Self {
+            views: self
+                .views
+                .iter()
+                .zip(clouds)
+                .zip(models)
+                .enumerate()
+                .map(|(i, ((v, c), m))| v.with_noise(i, c, &m.noise))
+                .collect::<Result<_, _>>()?,
+            noises: models.iter().map(|m| m.noise).collect(),
+            surface_neighbours: self.surface_neighbours,
+            caches: Mutex::new(Vec::new()),
+        })
+    }
+
     /// The cache kept for `key`, if the last run left one (taken out: runs that overlap
     /// in time each get their own).
     pub(crate) fn take_cache(&self, key: CacheKey) -> Option<PairNearest> {
@@ -266,6 +309,37 @@ mod tests {
             assert_ne!(kept.poses[1], initial[1]);
         }
         assert!(!prepared.caches.lock().unwrap().is_empty());
+    }
+
+    #[test]
+    fn the_same_views_at_another_noise_register_as_a_fresh_preparation_does() {
+        let (views, models, params, prepared) = problem();
+        let noisier = [ViewModel {
+            noise: RangeNoise::constant(0.002),
+            prior: None,
+        }; 2];
+        let initial = [
+            Pose::identity(),
+            Pose::new(
+                nalgebra::Vector3::new(0.002, 0.0, -0.001),
+                nalgebra::Vector3::new(0.0, 0.004, 0.0),
+            ),
+        ];
+        let shared = prepared.with_noise(&views, &noisier, &params).unwrap();
+        let fresh = MapPreparation::new(&views, &noisier, &params).unwrap();
+        let a = register_prepared(&shared, &views, &initial, &noisier, &params).unwrap();
+        let b = register_prepared(&fresh, &views, &initial, &noisier, &params).unwrap();
+        assert_eq!(a.poses, b.poses);
+        assert_eq!(a.report, b.report);
+        // The noise the preparation was made for no longer matches it.
+        assert!(register_prepared(&shared, &views, &initial, &models, &params).is_err());
+        // Other clouds are refused.
+        let mut moved = views.clone();
+        moved[0].points[3].y += 1e-4;
+        assert!(matches!(
+            prepared.with_noise(&moved, &noisier, &params),
+            Err(RegistrationError::PreparationMismatch(_))
+        ));
     }
 
     #[test]

@@ -52,6 +52,9 @@ pub(crate) struct Surfel {
     pub normal: Option<Vector3<f64>>,
     /// Variance of `position` along the viewing ray (m²): the points' σ² over `k`.
     pub variance: f64,
+    /// How many points the surfel was fitted to (`k`, fewer in a smaller view): the
+    /// divisor of its variance.
+    pub fitted: f64,
     /// Where the point lies on the view's boundary (see the module doc): the unit
     /// in-plane direction out of the surface, away from its neighbours.
     pub boundary: Option<Vector3<f64>>,
@@ -107,24 +110,7 @@ impl MapView {
     ) -> Result<Self, RegistrationError> {
         let mut tree = ViewTree::build(index, &cloud.points)?;
         let points = tree.points();
-        let (rays, sigmas): (Vec<_>, Vec<_>) = match &cloud.origins {
-            Some(origins) => points
-                .iter()
-                .zip(origins)
-                .map(|(p, o)| {
-                    let d = (p - o).norm();
-                    if d > 1e-9 {
-                        ((p - o) / d, noise.sigma(d))
-                    } else {
-                        (Vector3::zeros(), noise.sigma(1.0))
-                    }
-                })
-                .unzip(),
-            None => (
-                vec![Vector3::zeros(); points.len()],
-                vec![noise.sigma(1.0); points.len()],
-            ),
-        };
+        let (rays, sigmas) = rays_and_sigmas(cloud, noise);
         let centre = cloud.origin_centroid().unwrap_or_else(|| tree.centroid());
         let k = NonZeroUsize::new(k.max(3)).unwrap_or(NonZeroUsize::MIN);
         let nearest = KNearest::of_each(points, k).map_err(|e| RegistrationError::KdTree {
@@ -169,9 +155,69 @@ impl MapView {
         })
     }
 
+    /// View `index` prepared from the same `cloud` (the one it was made from) with another
+    /// sensor noise: the same surfaces and neighbour graph, each point's σ and each
+    /// surfel's variance as [`new`](Self::new) gives them at `noise`, without its free
+    /// space. The neighbourhoods do not depend on the noise, so none is searched again;
+    /// only the k-d tree is built again.
+    pub(crate) fn with_noise(
+        &self,
+        index: usize,
+        cloud: &PointCloud,
+        noise: &RangeNoise,
+    ) -> Result<Self, RegistrationError> {
+        let mut tree = ViewTree::build(index, &cloud.points)?;
+        if let Some(graph) = self.tree.graph() {
+            tree.set_graph(graph.clone());
+        }
+        let (rays, sigmas) = rays_and_sigmas(cloud, noise);
+        let surfels = self
+            .surfels
+            .iter()
+            .zip(&sigmas)
+            .map(|(s, sigma)| Surfel {
+                variance: sigma * sigma / s.fitted,
+                ..*s
+            })
+            .collect();
+        Ok(Self {
+            tree,
+            rays,
+            sigmas,
+            surfels,
+            spacing: self.spacing,
+            centre: self.centre,
+            free_space: None,
+        })
+    }
+
     /// Number of points.
     pub(crate) fn len(&self) -> usize {
         self.sigmas.len()
+    }
+}
+
+/// Each point's unit viewing ray (zero where its sensor origin is unknown or at the point)
+/// and its range σ under `noise` (at 1 m where the range is unknown).
+fn rays_and_sigmas(cloud: &PointCloud, noise: &RangeNoise) -> (Vec<Vector3<f64>>, Vec<f64>) {
+    let points = &cloud.points;
+    match &cloud.origins {
+        Some(origins) => points
+            .iter()
+            .zip(origins)
+            .map(|(p, o)| {
+                let d = (p - o).norm();
+                if d > 1e-9 {
+                    ((p - o) / d, noise.sigma(d))
+                } else {
+                    (Vector3::zeros(), noise.sigma(1.0))
+                }
+            })
+            .unzip(),
+        None => (
+            vec![Vector3::zeros(); points.len()],
+            vec![noise.sigma(1.0); points.len()],
+        ),
     }
 }
 
@@ -221,6 +267,7 @@ fn fit_surfel(
             if n.dot(ray) > 0.0 { -n } else { n }
         }),
         variance: sigma * sigma / n,
+        fitted: n,
         boundary,
     }
 }
