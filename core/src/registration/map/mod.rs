@@ -123,11 +123,17 @@ pub(crate) fn run(
     params: &RegistrationParams,
     reach: f64,
 ) -> Result<Registration, RegistrationError> {
-    let (mut problem, keys) = Problem::new(prepared, initial, models, params, reach);
-    let w = clouds.len();
-    let corrections = starting_corrections(initial, start, params.reference, w);
-    let mut solution = problem.solve_in_stages(corrections, params);
-    solution.objective_initial = problem.objective_at_initial(solution.at_initial.take(), w);
+    let (problem, keys, mut solution) = solved(
+        prepared,
+        clouds.len(),
+        initial,
+        start,
+        models,
+        params,
+        reach,
+    );
+    solution.objective_initial =
+        problem.objective_at_initial(solution.at_initial.take(), clouds.len());
     solution.evaluations += 1;
     let poses = solution.poses(initial, params.reference);
     let report = problem.report(&solution);
@@ -153,11 +159,33 @@ pub(crate) fn solve(
     params: &RegistrationParams,
     reach: f64,
 ) -> Vec<Pose> {
-    let (mut problem, keys) = Problem::new(prepared, initial, models, params, reach);
-    let corrections = starting_corrections(initial, start, params.reference, clouds.len());
-    let solution = problem.solve_in_stages(corrections, params);
+    let (problem, keys, solution) = solved(
+        prepared,
+        clouds.len(),
+        initial,
+        start,
+        models,
+        params,
+        reach,
+    );
     problem.keep_caches(prepared, keys);
     solution.poses(initial, params.reference)
+}
+
+/// The problem of `w` views, its caches' keys and its stages solved from `start`.
+fn solved<'a>(
+    prepared: &'a MapPreparation,
+    w: usize,
+    initial: &'a [Pose],
+    start: &[Pose],
+    models: &'a [ViewModel],
+    params: &RegistrationParams,
+    reach: f64,
+) -> (Problem<'a>, Vec<CacheKey>, Solution) {
+    let (mut problem, keys) = Problem::new(prepared, initial, models, params, reach);
+    let corrections = starting_corrections(initial, start, params.reference, w);
+    let solution = problem.solve_in_stages(corrections, params);
+    (problem, keys, solution)
 }
 
 /// Each of the `w` views' correction from its initial pose to its starting pose: exactly
