@@ -104,6 +104,19 @@ impl NearestCache {
         }
     }
 
+    /// Makes the cache answer within `radius` from now on, if that is at most its own:
+    /// every entry's bounds hold whatever the radius, and the nearest point within a
+    /// larger radius is the nearest within a smaller one when it lies there, so the
+    /// answers stay exact. A larger radius is refused (`false`): the cache never looked
+    /// that far.
+    pub(crate) fn shrink_to(&mut self, radius: f64) -> bool {
+        if radius > self.radius {
+            return false;
+        }
+        self.radius = radius;
+        true
+    }
+
     /// The entries, in query-point order.
     pub(crate) fn entries(&self) -> &[Nearest] {
         &self.entries
@@ -382,6 +395,7 @@ mod tests {
             graph: bool,
             only in prop::collection::vec(any::<bool>(), 300),
             masked in prop::collection::vec(any::<bool>(), 12),
+            shrink_at in 0usize..16,
         ) {
             let target_points = cloud(&seed);
             let query: Vec<_> = target_points.iter().map(|p| p + Vector3::new(0.0011, 0.0, 0.0)).collect();
@@ -390,10 +404,16 @@ mod tests {
             } else {
                 ViewTree::build(0, &target_points).unwrap()
             };
-            let radius = 0.003;
+            let mut radius = 0.003;
             let mut cache = NearestCache::new(query.len(), radius);
             let mut pose = Pose::identity();
             for (step, (t, r)) in steps.into_iter().enumerate() {
+                // From some step on (or never), the cache answers within half its radius.
+                if step == shrink_at {
+                    radius = 0.0015;
+                    prop_assert!(cache.shrink_to(radius));
+                    prop_assert!(!cache.shrink_to(0.003));
+                }
                 pose = Pose::new(Vector3::from(t) * scale, Vector3::from(r) * scale * 5.0) * pose;
                 // Some updates bring only the entries flagged in `only` up to date: the
                 // others must keep their answers, and be exact again once updated.

@@ -79,9 +79,9 @@ pub fn register_coarse_to_fine(
         .fold(0.0, f64::max);
     let coarse: Vec<PointCloud> = views.iter().map(|v| v.thinned(COARSE_POINTS)).collect();
     let mut start = initial.to_vec();
-    // The coarse stages share their clouds: the first one's preparation serves the others
-    // at their own noise.
-    let mut first: Option<MapPreparation> = None;
+    // The coarse stages share their clouds: each stage's preparation is the last one's at
+    // its own noise, with the nearest-point caches the last run left.
+    let mut last: Option<MapPreparation> = None;
     for s in coarse_sigmas(params.max_correspondence_distance, sigma) {
         let staged: Vec<ViewModel> = models
             .iter()
@@ -95,14 +95,12 @@ pub fn register_coarse_to_fine(
         p.map.rotation_tolerance = p.map.rotation_tolerance.max(s / 10.0 / LEVER);
         p.map.pair_points = p.map.pair_points.min(COARSE_PAIR_POINTS);
         let reach = stage_distance(params, s);
-        if let Some(first) = &first {
-            let prepared = first.with_noise(&coarse, &staged, &p)?;
-            start = map::solve(&prepared, &coarse, initial, &start, &staged, &p, reach);
-        } else {
-            let prepared = MapPreparation::new(&coarse, &staged, &p)?;
-            start = map::solve(&prepared, &coarse, initial, &start, &staged, &p, reach);
-            first = Some(prepared);
-        }
+        let prepared = match last.take() {
+            Some(prepared) => prepared.with_noise(&coarse, &staged, &p)?,
+            None => MapPreparation::new(&coarse, &staged, &p)?,
+        };
+        start = map::solve(&prepared, &coarse, initial, &start, &staged, &p, reach);
+        last = Some(prepared);
     }
     let prepared = MapPreparation::new(views, models, params)?;
     let reach = stage_distance(params, sigma);

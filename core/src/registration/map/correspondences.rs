@@ -32,6 +32,12 @@ impl PairNearest {
         let cache = NearestCache::new(points.len(), radius);
         Self { points, cache }
     }
+
+    /// Answers within `radius` from now on, if it is at most the cache's own
+    /// ([`NearestCache::shrink_to`]); `false` otherwise.
+    pub(crate) fn shrink_to(&mut self, radius: f64) -> bool {
+        self.cache.shrink_to(radius)
+    }
 }
 
 /// The work items that bring every pair's answers up to date for the poses `poses` (view

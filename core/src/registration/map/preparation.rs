@@ -97,12 +97,13 @@ impl MapPreparation {
 
     /// The same views prepared with the models' noise (`models`, one per view): each view
     /// as [`MapPreparation::new`] prepares it at that noise, without searching its
-    /// neighbourhoods again, and without free space or kept caches. `clouds` must be the
-    /// ones it was prepared from, checked as [`register_prepared`] checks them.
+    /// neighbourhoods again, without free space, and with the caches the last run left
+    /// (a run at the same or a smaller search radius starts from them). `clouds` must be
+    /// the ones it was prepared from, checked as [`register_prepared`] checks them.
     ///
     /// [`register_prepared`]: crate::registration::register_prepared
     pub(crate) fn with_noise(
-        &self,
+        self,
         clouds: &[PointCloud],
         models: &[ViewModel],
         params: &RegistrationParams,
@@ -126,28 +127,37 @@ impl MapPreparation {
         Ok(Self {
             views: self
                 .views
-                .iter()
+                .into_iter()
                 .zip(clouds)
                 .zip(models)
-                .enumerate()
-                .map(|(i, ((v, c), m))| v.with_noise(i, c, &m.noise))
-                .collect::<Result<_, _>>()?,
+                .map(|((v, c), m)| v.with_noise(c, &m.noise))
+                .collect(),
             noises: models.iter().map(|m| m.noise).collect(),
             surface_neighbours: self.surface_neighbours,
-            caches: Mutex::new(Vec::new()),
+            caches: self.caches,
         })
     }
 
     /// The cache kept for `key`, if the last run left one (taken out: runs that overlap
     /// in time each get their own).
+    /// A cache kept for the same pair and stride at a larger radius serves too, answering
+    /// within the smaller one from then on ([`PairNearest::shrink_to`]).
     pub(crate) fn take_cache(&self, key: CacheKey) -> Option<PairNearest> {
         // A poisoned lock only means an earlier panic; the caches stay exact.
         let mut caches = self
             .caches
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
-        let at = caches.iter().position(|(k, _)| *k == key)?;
-        Some(caches.swap_remove(at).1)
+        if let Some(at) = caches.iter().position(|(k, _)| *k == key) {
+            return Some(caches.swap_remove(at).1);
+        }
+        let (source, target, stride, reach) = key;
+        let radius = f64::from_bits(reach);
+        let at = caches.iter().position(|&((s, t, st, r), _)| {
+            (s, t, st) == (source, target, stride) && f64::from_bits(r) >= radius
+        })?;
+        let mut cache = caches.swap_remove(at).1;
+        cache.shrink_to(radius).then_some(cache)
     }
 
     /// Keeps a run's caches for the next run.
@@ -313,6 +323,8 @@ mod tests {
 
     #[test]
     fn the_same_views_at_another_noise_register_as_a_fresh_preparation_does() {
+        // A first run leaves its caches at the full radius; the run at the other noise
+        // and half the radius starts from them and ends where a fresh preparation does.
         let (views, models, params, prepared) = problem();
         let noisier = [ViewModel {
             noise: RangeNoise::constant(0.002),
@@ -325,10 +337,18 @@ mod tests {
                 nalgebra::Vector3::new(0.0, 0.004, 0.0),
             ),
         ];
+        register_prepared(&prepared, &views, &initial, &models, &params).unwrap();
         let shared = prepared.with_noise(&views, &noisier, &params).unwrap();
+        assert!(!shared.caches.lock().unwrap().is_empty());
         let fresh = MapPreparation::new(&views, &noisier, &params).unwrap();
-        let a = register_prepared(&shared, &views, &initial, &noisier, &params).unwrap();
-        let b = register_prepared(&fresh, &views, &initial, &noisier, &params).unwrap();
+        let half = params.max_correspondence_distance / 2.0;
+        let run = |p: &MapPreparation| {
+            crate::registration::register_prepared_within(
+                p, &views, &initial, &initial, &noisier, &params, half,
+            )
+            .unwrap()
+        };
+        let (a, b) = (run(&shared), run(&fresh));
         assert_eq!(a.poses, b.poses);
         assert_eq!(a.report, b.report);
         // The noise the preparation was made for no longer matches it.
@@ -337,7 +357,7 @@ mod tests {
         let mut moved = views.clone();
         moved[0].points[3].y += 1e-4;
         assert!(matches!(
-            prepared.with_noise(&moved, &noisier, &params),
+            fresh.with_noise(&moved, &models, &params),
             Err(RegistrationError::PreparationMismatch(_))
         ));
     }

@@ -155,21 +155,11 @@ impl MapView {
         })
     }
 
-    /// View `index` prepared from the same `cloud` (the one it was made from) with another
-    /// sensor noise: the same surfaces and neighbour graph, each point's σ and each
+    /// The view prepared from the same `cloud` (the one it was made from) with another
+    /// sensor noise: the same tree, surfaces and neighbour graph, each point's σ and each
     /// surfel's variance as [`new`](Self::new) gives them at `noise`, without its free
-    /// space. The neighbourhoods do not depend on the noise, so none is searched again;
-    /// only the k-d tree is built again.
-    pub(crate) fn with_noise(
-        &self,
-        index: usize,
-        cloud: &PointCloud,
-        noise: &RangeNoise,
-    ) -> Result<Self, RegistrationError> {
-        let mut tree = ViewTree::build(index, &cloud.points)?;
-        if let Some(graph) = self.tree.graph() {
-            tree.set_graph(graph.clone());
-        }
+    /// space. The neighbourhoods do not depend on the noise, so none is searched again.
+    pub(crate) fn with_noise(self, cloud: &PointCloud, noise: &RangeNoise) -> Self {
         let (rays, sigmas) = rays_and_sigmas(cloud, noise);
         let surfels = self
             .surfels
@@ -180,15 +170,15 @@ impl MapView {
                 ..*s
             })
             .collect();
-        Ok(Self {
-            tree,
+        Self {
+            tree: self.tree,
             rays,
             sigmas,
             surfels,
             spacing: self.spacing,
             centre: self.centre,
             free_space: None,
-        })
+        }
     }
 
     /// Number of points.
