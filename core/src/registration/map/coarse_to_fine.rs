@@ -11,7 +11,8 @@
 //! and stops when a step moves no view by a tenth of its σ: it has only to land within the
 //! next stage's reach, which the views' shapes decide rather than the count of their
 //! points (its objective at the initial poses is not evaluated either: nothing reads
-//! it); the coarse stages share one preparation of their clouds. Each stage searches a point's nearest target point
+//! it); the coarse stages share one preparation of their clouds and its nearest-point
+//! caches. Each stage searches a point's nearest target point
 //! only within the distance at which its kernel caps a residual between two points of its
 //! σ (`outlier_sigmas · √(2σ² + σ_f²)`, at most `d_max`: 30, 11 and 5 mm on scans of 0.26 mm
 //! noise at the default 3 cm), as ICP's coarse-to-fine schedules shrink the correspondence

@@ -7,8 +7,9 @@
 //!
 //! It also keeps each pair's nearest-point cache ([`PairNearest`]) from one run to the
 //! next: a later run starts near where the last one ended, so most of its first
-//! evaluation's answers are proved unchanged instead of searched. The caches answer
-//! exactly as fresh searches do, so what ran before does not change a run's result.
+//! evaluation's answers are proved unchanged instead of searched (a cache made within a
+//! larger search radius serves a run within a smaller one). The caches answer exactly as
+//! fresh searches do, so what ran before does not change a run's result.
 
 use std::sync::Mutex;
 
