@@ -186,7 +186,6 @@ pub fn register_with_models(
             let prepared = MapPreparation::new(views, models, params)?;
             map::run(
                 &prepared,
-                views,
                 initial_poses,
                 initial_poses,
                 models,
@@ -273,7 +272,6 @@ pub(crate) fn register_prepared_within(
     prepared.check_matches(views, models, params)?;
     map::run(
         prepared,
-        views,
         initial_poses,
         start_poses,
         models,

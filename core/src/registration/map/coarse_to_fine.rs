@@ -100,7 +100,7 @@ pub fn register_coarse_to_fine(
             Some(prepared) => prepared.with_noise(&coarse, &staged, &p)?,
             None => MapPreparation::new(&coarse, &staged, &p)?,
         };
-        start = map::solve(&prepared, &coarse, initial, &start, &staged, &p, reach);
+        start = map::solve(&prepared, initial, &start, &staged, &p, reach);
         last = Some(prepared);
     }
     let prepared = MapPreparation::new(views, models, params)?;

@@ -62,7 +62,6 @@ use rayon::prelude::*;
 
 use std::sync::Mutex;
 
-use crate::cloud::PointCloud;
 use crate::math::Pose;
 use crate::registration::{
     MapReport, MapViewReport, MethodReport, Registration, RegistrationError, RegistrationParams,
@@ -116,27 +115,16 @@ struct State {
 /// searched within `reach` (at most `d_max`).
 pub(crate) fn run(
     prepared: &MapPreparation,
-    clouds: &[PointCloud],
     initial: &[Pose],
     start: &[Pose],
     models: &[ViewModel],
     params: &RegistrationParams,
     reach: f64,
 ) -> Result<Registration, RegistrationError> {
-    let (problem, keys, mut solution) = solved(
-        prepared,
-        clouds.len(),
-        initial,
-        start,
-        models,
-        params,
-        reach,
-    );
-    solution.objective_initial =
-        problem.objective_at_initial(solution.at_initial.take(), clouds.len());
-    solution.evaluations += 1;
+    let (problem, keys, mut solution) = solved(prepared, initial, start, models, params, reach);
+    let objective_initial = problem.objective_at_initial(solution.at_initial.take(), initial.len());
     let poses = solution.poses(initial, params.reference);
-    let report = problem.report(&solution);
+    let report = problem.report(&solution, objective_initial);
     let converged = solution.stop == StopReason::Converged;
     let rms = report.rms;
     problem.keep_caches(prepared, keys);
@@ -152,30 +140,21 @@ pub(crate) fn run(
 /// objective at the initial poses, which only the report reads, is not evaluated.
 pub(crate) fn solve(
     prepared: &MapPreparation,
-    clouds: &[PointCloud],
     initial: &[Pose],
     start: &[Pose],
     models: &[ViewModel],
     params: &RegistrationParams,
     reach: f64,
 ) -> Vec<Pose> {
-    let (problem, keys, solution) = solved(
-        prepared,
-        clouds.len(),
-        initial,
-        start,
-        models,
-        params,
-        reach,
-    );
+    let (problem, keys, solution) = solved(prepared, initial, start, models, params, reach);
     problem.keep_caches(prepared, keys);
     solution.poses(initial, params.reference)
 }
 
-/// The problem of `w` views, its caches' keys and its stages solved from `start`.
+/// The problem, its caches' keys and its stages solved from `start`: what [`run`] and
+/// [`solve`] share.
 fn solved<'a>(
     prepared: &'a MapPreparation,
-    w: usize,
     initial: &'a [Pose],
     start: &[Pose],
     models: &'a [ViewModel],
@@ -183,7 +162,7 @@ fn solved<'a>(
     reach: f64,
 ) -> (Problem<'a>, Vec<CacheKey>, Solution) {
     let (mut problem, keys) = Problem::new(prepared, initial, models, params, reach);
-    let corrections = starting_corrections(initial, start, params.reference, w);
+    let corrections = starting_corrections(initial, start, params.reference, initial.len());
     let solution = problem.solve_in_stages(corrections, params);
     (problem, keys, solution)
 }
@@ -215,8 +194,6 @@ struct Solution {
     iterations: usize,
     /// Objective evaluations over all stages.
     evaluations: usize,
-    /// The objective at the initial poses (the reported ones), once evaluated.
-    objective_initial: f64,
     /// The correspondences at the initial poses, when the run started there.
     at_initial: Option<Vec<PairNearest>>,
 }
@@ -366,7 +343,6 @@ impl Problem<'_> {
             held,
             iterations,
             evaluations,
-            objective_initial: f64::NAN,
             at_initial,
         }
     }
@@ -404,16 +380,17 @@ impl Problem<'_> {
         }
     }
 
-    /// The report of `solution`: the work done, the objective before and after, the
-    /// verdict and per view its correction, χ² and data information.
-    fn report(&self, solution: &Solution) -> MapReport {
+    /// The report of `solution`, whose objective at the initial poses is
+    /// `objective_initial` (its evaluation counted among the work done): the work done,
+    /// the objective before and after, the verdict and per view its correction, χ² and
+    /// data information.
+    fn report(&self, solution: &Solution, objective_initial: f64) -> MapReport {
         let Solution {
             state,
             stop,
             held,
             iterations,
             evaluations,
-            objective_initial,
             ..
         } = solution;
         let rms = (state.data.inlier_count > 0)
@@ -437,13 +414,13 @@ impl Problem<'_> {
             })
             .collect();
         let converged = *stop == StopReason::Converged;
-        let fell = state.objective <= *objective_initial;
+        let fell = state.objective <= objective_initial;
         let held_views: Vec<usize> = (0..held.len()).filter(|&v| held[v]).collect();
         MapReport {
             iterations: *iterations,
-            evaluations: *evaluations,
+            evaluations: evaluations + 1,
             stop: *stop,
-            objective_initial: *objective_initial,
+            objective_initial,
             objective_final: state.objective,
             pairs: self.pairs.len(),
             inliers: state.data.inlier_count,
