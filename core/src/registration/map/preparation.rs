@@ -109,16 +109,7 @@ impl MapPreparation {
         models: &[ViewModel],
         params: &RegistrationParams,
     ) -> Result<Self, RegistrationError> {
-        let unchanged: Vec<ViewModel> = self
-            .noises
-            .iter()
-            .zip(models)
-            .map(|(noise, m)| ViewModel {
-                noise: *noise,
-                prior: m.prior,
-            })
-            .collect();
-        self.check_matches(clouds, &unchanged, params)?;
+        self.check_clouds(clouds, params)?;
         crate::registration::check_input(
             clouds,
             &vec![Pose::identity(); clouds.len()],
@@ -224,6 +215,27 @@ impl MapPreparation {
         models: &[ViewModel],
         params: &RegistrationParams,
     ) -> Result<(), RegistrationError> {
+        self.check_clouds(clouds, params)?;
+        match self
+            .noises
+            .iter()
+            .zip(models)
+            .position(|(n, m)| *n != m.noise)
+        {
+            Some(v) => Err(RegistrationError::PreparationMismatch(format!(
+                "view {v} has another range noise"
+            ))),
+            None => Ok(()),
+        }
+    }
+
+    /// Checks that the preparation was made from `clouds` (their points and sensor
+    /// origins) and `params`' surfel size, whatever the noise.
+    fn check_clouds(
+        &self,
+        clouds: &[PointCloud],
+        params: &RegistrationParams,
+    ) -> Result<(), RegistrationError> {
         let mismatch = |what: String| Err(RegistrationError::PreparationMismatch(what));
         if self.views.len() != clouds.len() {
             return mismatch(format!(
@@ -235,21 +247,12 @@ impl MapPreparation {
         if self.surface_neighbours != params.map.surface_neighbours {
             return mismatch("another map.surface_neighbours".into());
         }
-        for (v, ((view, cloud), (noise, model))) in self
-            .views
-            .iter()
-            .zip(clouds)
-            .zip(self.noises.iter().zip(models))
-            .enumerate()
-        {
+        for (v, (view, cloud)) in self.views.iter().zip(clouds).enumerate() {
             let centre = cloud
                 .origin_centroid()
                 .unwrap_or_else(|| view.tree.centroid());
             if view.tree.points() != cloud.points.as_slice() || view.centre != centre {
                 return mismatch(format!("view {v} has other points or sensor origins"));
-            }
-            if *noise != model.noise {
-                return mismatch(format!("view {v} has another range noise"));
             }
         }
         Ok(())
