@@ -78,6 +78,26 @@ pub fn register_coarse_to_fine(
         .iter()
         .map(|m| m.noise.sigma(1.0))
         .fold(0.0, f64::max);
+    // The fine stage's preparation does not depend on the coarse stages' poses: it is
+    // made beside them, on the threads their serial steps leave idle.
+    let (start, prepared) = rayon::join(
+        || coarse_stages(views, initial, models, params, sigma),
+        || MapPreparation::new(views, models, params),
+    );
+    let (start, prepared) = (start?, prepared?);
+    let reach = stage_distance(params, sigma);
+    register_prepared_within(&prepared, views, initial, &start, models, params, reach)
+}
+
+/// The poses the coarse stages of [`register_coarse_to_fine`] end at, from `initial`, for
+/// views whose largest σ at 1 m is `sigma`.
+fn coarse_stages(
+    views: &[PointCloud],
+    initial: &[Pose],
+    models: &[ViewModel],
+    params: &RegistrationParams,
+    sigma: f64,
+) -> Result<Vec<Pose>, RegistrationError> {
     let coarse: Vec<PointCloud> = views.iter().map(|v| v.thinned(COARSE_POINTS)).collect();
     let mut start = initial.to_vec();
     // The coarse stages share their clouds: each stage's preparation is the last one's at
@@ -103,9 +123,7 @@ pub fn register_coarse_to_fine(
         start = map::solve(&prepared, initial, &start, &staged, &p, reach);
         last = Some(prepared);
     }
-    let prepared = MapPreparation::new(views, models, params)?;
-    let reach = stage_distance(params, sigma);
-    register_prepared_within(&prepared, views, initial, &start, models, params, reach)
+    Ok(start)
 }
 
 /// A stage's correspondence distance: where its kernel caps a residual between two
