@@ -570,9 +570,10 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
 
     /// Whatever the reported error within the prior, the objective does not rise, the
-    /// registered view ends no farther from the truth than it started (by more than
-    /// 0.2 mm), and never beyond the χ² gate. (How far it gets is not asserted here: from
-    /// some starts this near-2.5-D patch leaves most of a pure shift along x in place.)
+    /// view never ends beyond the χ² gate, and it ends no farther from the truth than the
+    /// farther of its start and its noise floor ([`never_worse`]). (How far it gets is not
+    /// asserted here: from some starts this near-2.5-D patch leaves most of a pure shift
+    /// along x in place.)
     #[test]
     fn never_worse_than_the_reported_pose(
         t in prop::array::uniform3(-0.006f64..0.006),
@@ -580,17 +581,66 @@ proptest! {
         seed in 0u64..1000,
     ) {
         let error = Isometry3::new(Vector3::from(t), Vector3::from(w));
-        let views = two_views(&error, 0.004, seed);
-        let prior = PosePrior { rotation_sigma: 0.01, translation_sigma: 0.005 };
-        let initial = vec![Pose::identity(); 2];
-        let r = register_with_models(&views, &initial, &models(2, 0.004, prior), &params()).unwrap();
-        let report = map_report(&r);
-        prop_assert!(report.objective_final <= report.objective_initial);
-        let start = alignment_error(&views[1..], &initial[1..]).mean;
-        let end = alignment_error(&views[1..], &r.poses[1..]).mean;
-        prop_assert!(end <= start + 2e-4, "end {} start {}", end, start);
-        prop_assert!(report.views[1].chi2.unwrap() <= 22.458);
+        if let Err(e) = never_worse(&error, seed) {
+            return Err(TestCaseError::fail(e));
+        }
     }
+}
+
+/// The camera's noise (m) and pose prior of [`never_worse`].
+const NOISY_CAMERA: f64 = 0.004;
+const NOISY_PRIOR: PosePrior = PosePrior {
+    rotation_sigma: 0.01,
+    translation_sigma: 0.005,
+};
+
+/// How far (m) the MAP's end may lie beyond where it ends started at the truth, on
+/// [`two_views`] with a camera of 4 mm noise: its landing point moves with the start by
+/// up to 0.36 mm there (measured over 20 starts 0–0.7 mm along y off the truth at seed
+/// 11: 1.07–1.43 mm from the truth at the end, 1.07 mm started at the truth),
+/// since at this noise the nearest-point matches change from one start to the next.
+const LANDING_SPREAD: f64 = 5e-4;
+
+/// Registers the camera of [`two_views`] reported off by `error` (noise seed `seed`),
+/// and checks that the objective fell, the view passes the χ² gate, and it ends no
+/// farther from the truth than it started (+0.2 mm) or than the registration started at
+/// the truth ends (its noise floor, + [`LANDING_SPREAD`]) — a start already nearer than
+/// the estimate's own error cannot be kept.
+fn never_worse(error: &Pose, seed: u64) -> Result<(), String> {
+    let views = two_views(error, NOISY_CAMERA, seed);
+    let initial = vec![Pose::identity(); 2];
+    let models = models(2, NOISY_CAMERA, NOISY_PRIOR);
+    let r = register_with_models(&views, &initial, &models, &params()).unwrap();
+    let report = map_report(&r);
+    let prepared = MapPreparation::new(&views, &models, &params()).unwrap();
+    let truth = [Pose::identity(), error.inverse()];
+    let floor =
+        register_prepared_from(&prepared, &views, &initial, &truth, &models, &params()).unwrap();
+    let start = alignment_error(&views[1..], &initial[1..]).mean;
+    let end = alignment_error(&views[1..], &r.poses[1..]).mean;
+    let from_truth = alignment_error(&views[1..], &floor.poses[1..]).mean;
+    if report.objective_final > report.objective_initial {
+        return Err(format!("the objective rose: {report:?}"));
+    }
+    if end > (start + 2e-4).max(from_truth + LANDING_SPREAD) {
+        return Err(format!(
+            "end {end} from start {start}; started at the truth, {from_truth}"
+        ));
+    }
+    match report.views[1].chi2 {
+        Some(chi2) if chi2 <= 22.458 => Ok(()),
+        other => Err(format!("χ² {other:?}")),
+    }
+}
+
+/// The case that showed the noise floor: reported 0.72 mm off along y (0.74 mm of
+/// alignment error with the noise), the view ends 1.41 mm off, and 1.07 mm off started at
+/// the truth (measured) — farther than it started, but within the estimate's own spread
+/// at 4 mm of noise.
+#[test]
+fn a_start_nearer_than_the_noise_floor_ends_within_its_landing_spread() {
+    let error = Isometry3::new(Vector3::new(0.0, 0.00072, 0.0), Vector3::zeros());
+    never_worse(&error, 11).unwrap();
 }
 
 /// A laser sweep from above (one ray every 2 mm, lines 2 mm apart, from a scanner 0.9 m
