@@ -194,5 +194,73 @@ fn neighbourhoods(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, table_ii, paper_object, neighbourhoods);
+/// `nbv register`'s default on a user's scans (`user_scans`' sets of docs/peers.md): 12
+/// views of 4000 points of a library mesh, 0.3 mm of noise along the rays, every view but
+/// the reference 2° and 5 mm off, no sensor origins and no pose prior — the sensors placed
+/// (`assign_sensor_origins`), the noise estimated from the views, then the MAP from coarse
+/// to fine, at 2 threads. The figurine's ring is a typical set; the box's hand-held path
+/// the slowest (its fine stage creeps along the slides its faces leave loose).
+fn users_scans(c: &mut Criterion) {
+    use nbv_core::evaluation::alignment_error;
+    use nbv_core::mesh::io::read_mesh;
+    use nbv_core::registration::{
+        RangeNoise, SensorOrigin, ViewModel, assign_sensor_origins, estimate_range_sigma,
+        register_coarse_to_fine,
+    };
+    use registration_data::mesh_scans::{MeshScanSpec, ScanPath, scan_mesh};
+    let meshes = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/meshes/");
+    let sets = [
+        ("figurine_ring", "figurine.stl", ScanPath::Ring, 7),
+        ("box_handheld", "box.stl", ScanPath::Handheld, 11),
+    ];
+    let params = RegistrationParams {
+        method: Method::Map,
+        ..RegistrationParams::default()
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .expect("thread pool");
+    let mut group = c.benchmark_group("users_scans_12_views");
+    group.sample_size(10);
+    for (name, mesh, path, seed) in sets {
+        let object = read_mesh(std::path::Path::new(&format!("{meshes}{mesh}"))).expect("mesh");
+        let spec = MeshScanSpec {
+            path,
+            seed,
+            ..MeshScanSpec::default()
+        };
+        let (s, _) = scan_mesh(&object, &spec).expect("scans");
+        let run = || {
+            pool.install(|| {
+                let mut views = s.views.clone();
+                assign_sensor_origins(&mut views, SensorOrigin::Auto);
+                let sigma = estimate_range_sigma(&views).expect("noise");
+                let model = ViewModel {
+                    noise: RangeNoise::constant(sigma),
+                    prior: None,
+                };
+                let models = vec![model; views.len()];
+                register_coarse_to_fine(&views, &s.initial, &models, &params).expect("registered")
+            })
+        };
+        let r = run();
+        // The registered poses against the truth, in the reference's frame.
+        let to_truth = s.truth[0] * r.poses[0].inverse();
+        let registered: Vec<_> = r.poses.iter().map(|p| to_truth * p).collect();
+        let mut truthful = s.views.clone();
+        for (v, t) in truthful.iter_mut().zip(&s.truth) {
+            v.truth = Some(v.points.iter().map(|p| t * p).collect());
+        }
+        println!(
+            "users_scans_12_views/{name}: mean alignment error {:.3} mm (initial {:.3} mm)",
+            alignment_error(&truthful[1..], &registered[1..]).mean * 1e3,
+            alignment_error(&truthful[1..], &s.initial[1..]).mean * 1e3,
+        );
+        group.bench_function(name, |b| b.iter(|| black_box(run())));
+    }
+    group.finish();
+}
+
+criterion_group!(benches, table_ii, paper_object, neighbourhoods, users_scans);
 criterion_main!(benches);
