@@ -490,9 +490,13 @@ fn help_documents_the_pose_format_and_exit_status() {
 /// The scene's views as a ROS 2 bag written by nbv-bag: clouds on `/scans` in frame
 /// `sensor` stamped 10 + k s, their starting poses on `/tf` (`odom → sensor`, sampled
 /// 0.1 s before and after each stamp and 2 mm apart along x, so tf2's interpolation gives
-/// the pose at the stamp) under a static `world → odom` offset.
-fn write_bag(s: &Scene, path: &Path) {
-    use nbv_bag::messages::{Header, TFMessage, Time, Transform, TransformStamped};
+/// the pose at the stamp) under a static `world → odom` offset; with `covariance`, each
+/// cloud's sensor-pose covariance on `/scan_pose` at its stamp.
+fn write_bag(s: &Scene, path: &Path, covariance: Option<[f64; 36]>) {
+    use nbv_bag::messages::{
+        Header, PoseWithCovariance, PoseWithCovarianceStamped, TFMessage, Time, Transform,
+        TransformStamped,
+    };
     const S: i64 = 1_000_000_000;
     let odom = Isometry3::new(Vector3::new(0.5, -0.25, 0.1), Vector3::new(0.0, 0.0, 0.5));
     let stamped = |parent: &str, child: &str, t: i64, pose: &Isometry3<f64>| TFMessage {
@@ -523,6 +527,17 @@ fn write_bag(s: &Scene, path: &Path) {
             stamp: Time::from_nanos(t),
             frame_id: "sensor".into(),
         };
+        if let Some(covariance) = covariance {
+            let msg = PoseWithCovarianceStamped {
+                header: header.clone(),
+                pose: PoseWithCovariance {
+                    covariance,
+                    ..Default::default()
+                },
+            };
+            w.write("/scan_pose", u64::try_from(t).unwrap(), &msg)
+                .unwrap();
+        }
         let cloud = nbv_bag::point_cloud::cloud_from_points_f64(header, &points);
         w.write("/scans", u64::try_from(t).unwrap(), &cloud)
             .unwrap();
@@ -562,7 +577,7 @@ fn a_bag_registers_as_its_files_do() {
     files.extend(["--init".to_string(), s.init.display().to_string()]);
     let from_files = register(&files, "files");
     let bag = dir.join("scans");
-    write_bag(&s, &bag);
+    write_bag(&s, &bag, None);
     let mut bags = vec![bag];
     if let Some(python) = nbv_fixtures::python_check::bag_python() {
         let scans: Vec<serde_json::Value> = s
@@ -612,7 +627,7 @@ fn bad_bags_are_clear_errors_and_write_nothing() {
     let s = scene();
     let dir = s.dir.path();
     let bag = dir.join("scans");
-    write_bag(&s, &bag);
+    write_bag(&s, &bag, None);
     let model = dir.join("model.ply");
     let poses = dir.join("poses.json");
     let run_bag = |extra: &[&str]| {
@@ -646,6 +661,116 @@ fn bad_bags_are_clear_errors_and_write_nothing() {
         "{err}"
     );
     assert!(!model.exists() && !poses.exists());
+}
+
+/// `--pose-covariance-topic`: a bag whose every view carries the covariance of 2° and 5 mm
+/// registers to the poses `--pose-sigma 2,0.005` gives; the topic of another type, a view
+/// with no covariance before it, and the option with `--pose-sigma` or without `--bag` are
+/// errors that write nothing.
+#[test]
+fn a_bags_pose_covariance_is_each_views_prior() {
+    let s = scene();
+    let dir = s.dir.path();
+    let (r, t) = (2f64.to_radians(), 0.005);
+    let mut covariance = [0.0; 36];
+    for i in 0..3 {
+        covariance[7 * i] = t * t;
+        covariance[7 * (i + 3)] = r * r;
+    }
+    let bag = dir.join("scans");
+    write_bag(&s, &bag, Some(covariance));
+    let model = dir.join("model.ply");
+    let register = |extra: &[&str], tag: &str| {
+        let poses = dir.join(format!("poses-{tag}.json"));
+        let mut a = vec![
+            "register",
+            "--bag",
+            bag.to_str().unwrap(),
+            "--topic",
+            "/scans",
+            "--max-distance",
+            "0.006",
+            "-o",
+            model.to_str().unwrap(),
+            "--poses",
+            poses.to_str().unwrap(),
+        ];
+        a.extend_from_slice(extra);
+        (nbv(&a), poses)
+    };
+    let (out, from_topic) = register(&["--pose-covariance-topic", "/scan_pose"], "topic");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let printed = text(&out.stdout);
+    assert!(
+        printed.contains(
+            "pose priors from /scan_pose: rotation σ 2.000–2.000°, translation σ 5.000–5.000 mm"
+        ),
+        "{printed}"
+    );
+    let (out, from_sigma) = register(&["--pose-sigma", "2,0.005"], "sigma");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let (a, b) = (read_poses(&from_topic), read_poses(&from_sigma));
+    for k in 0..s.files.len() {
+        let name = format!("/scans#{k}");
+        let d = pose_of(&a, &name).inverse() * pose_of(&b, &name);
+        let (dr, dt) = (d.rotation.angle(), d.translation.vector.norm());
+        assert!(dr < 1e-9 && dt < 1e-9, "view {k}: {dr} rad {dt} m apart");
+    }
+    std::fs::remove_file(&model).unwrap();
+    for (extra, status, message) in [
+        (vec!["--pose-covariance-topic", "/tf"], 1, "topic /tf"),
+        (
+            vec![
+                "--pose-covariance-topic",
+                "/scan_pose",
+                "--pose-sigma",
+                "2,0.005",
+            ],
+            2,
+            "cannot be used with",
+        ),
+    ] {
+        let (out, poses) = register(&extra, "bad");
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(status), "{extra:?}: {err}");
+        assert!(err.contains(message), "{extra:?}: {err}");
+        assert!(!model.exists() && !poses.exists(), "{extra:?} wrote output");
+    }
+    // A bag whose covariances start after the first view.
+    let late = dir.join("late");
+    write_bag(&s, &late, None);
+    let out = nbv(&[
+        "register",
+        "--bag",
+        late.to_str().unwrap(),
+        "--topic",
+        "/scans",
+        "--pose-covariance-topic",
+        "/scan_pose",
+        "-o",
+        model.to_str().unwrap(),
+        "--poses",
+        dir.join("late.json").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("/scan_pose"),
+        "{}",
+        text(&out.stderr)
+    );
+    let out = nbv(&[
+        "register",
+        s.files[0].to_str().unwrap(),
+        s.files[1].to_str().unwrap(),
+        "--pose-covariance-topic",
+        "/scan_pose",
+        "-o",
+        model.to_str().unwrap(),
+        "--poses",
+        dir.join("files.json").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    assert!(!model.exists());
 }
 
 #[path = "../core/tests/registration_data/mod.rs"]

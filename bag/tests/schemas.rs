@@ -22,6 +22,8 @@ fn ours() -> Vec<(&'static str, String)> {
         one::<Point>(),
         one::<Quaternion>(),
         one::<Pose>(),
+        one::<PoseWithCovariance>(),
+        one::<PoseWithCovarianceStamped>(),
         one::<Transform>(),
         one::<TransformStamped>(),
         one::<TFMessage>(),
@@ -47,6 +49,7 @@ fn schema_texts_have_the_lengths_rosbags_writes() {
     assert_eq!(CameraInfo::schema_text().len(), 666);
     assert_eq!(JointState::schema_text().len(), 375);
     assert_eq!(MarkerArray::schema_text().len(), 2504);
+    assert_eq!(PoseWithCovarianceStamped::schema_text().len(), 968);
     assert_eq!(RosString::schema_text(), "string data\n");
 }
 

@@ -12,6 +12,8 @@ use std::time::{Duration, Instant};
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use nbv_core::registration::{Method, MethodReport, RegistrationParams, register};
 
+#[path = "../tests/registration_data/mesh_scans.rs"]
+mod mesh_scans;
 #[path = "../tests/registration_data/mod.rs"]
 mod registration_data;
 
@@ -201,13 +203,13 @@ fn neighbourhoods(c: &mut Criterion) {
 /// to fine, at 2 threads. The figurine's ring is a typical set; the box's hand-held path
 /// the slowest (its fine stage creeps along the slides its faces leave loose).
 fn users_scans(c: &mut Criterion) {
+    use mesh_scans::{MeshScanSpec, ScanPath, scan_mesh};
     use nbv_core::evaluation::alignment_error;
     use nbv_core::mesh::io::read_mesh;
     use nbv_core::registration::{
         RangeNoise, SensorOrigin, ViewModel, assign_sensor_origins, estimate_range_sigma,
         register_coarse_to_fine,
     };
-    use registration_data::mesh_scans::{MeshScanSpec, ScanPath, scan_mesh};
     let meshes = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/meshes/");
     let sets = [
         ("figurine_ring", "figurine.stl", ScanPath::Ring, 7),

@@ -30,12 +30,14 @@ use std::process::ExitCode;
 use nbv_core::cloud::io::{WriteOptions, write_cloud};
 use nbv_core::mesh::io::read_mesh;
 
+#[path = "../tests/registration_data/mesh_scans.rs"]
+mod mesh_scans;
 #[path = "../tests/registration_data/mod.rs"]
 mod registration_data;
 #[path = "support/views_dir.rs"]
 mod views_dir;
 
-use registration_data::mesh_scans::{MeshScanSpec, ScanPath, scan_mesh};
+use mesh_scans::{MeshScanSpec, ScanPath, scan_mesh};
 use views_dir::{write_json, write_poses};
 
 fn main() -> ExitCode {

@@ -2,13 +2,17 @@
 //! `sensor_msgs/PointCloud2` message on a topic is one view, in its sensor frame
 //! (`header.frame_id`), with the sensor's pose in a fixed frame at the message's stamp from
 //! `/tf` and `/tf_static` (tf2's rules: chains of frames, interpolation between stamps,
-//! never extrapolation; `nbv_bag::TfBuffer`).
+//! never extrapolation; `nbv_bag::TfBuffer`), and optionally each view's pose prior from a
+//! topic of the sensor's pose covariance.
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
+use nalgebra::{Matrix3, Matrix6};
+use nbv_bag::messages::PoseWithCovarianceStamped;
 use nbv_bag::{BagReader, TfBuffer};
 use nbv_core::cloud::PointCloud;
 use nbv_core::math::Pose;
+use nbv_core::registration::PosePrior;
 use std::path::{Path, PathBuf};
 
 /// `--bag BAG --topic T [--fixed-frame F]`: the options of a command that reads its views
@@ -29,12 +33,13 @@ pub struct BagInput {
 }
 
 impl BagInput {
-    /// The bag's views ([`read_bag_views`]), reported on stderr; `None` without `--bag`.
-    pub fn read(&self) -> Result<Option<BagViews>> {
+    /// The bag's views ([`read_bag_views`], with their pose priors from `pose_topic`),
+    /// reported on stderr; `None` without `--bag`.
+    pub fn read(&self, pose_topic: Option<&str>) -> Result<Option<BagViews>> {
         let (Some(bag), Some(topic)) = (&self.bag, &self.topic) else {
             return Ok(None);
         };
-        let views = read_bag_views(bag, topic, self.fixed_frame.as_deref())?;
+        let views = read_bag_views(bag, topic, self.fixed_frame.as_deref(), pose_topic)?;
         eprintln!(
             "{}: {} clouds on {topic}, posed in frame {:?}",
             bag.display(),
@@ -55,12 +60,20 @@ pub struct BagViews {
     pub poses: Vec<Pose>,
     /// The fixed frame the poses are in.
     pub fixed_frame: String,
+    /// Each view's pose prior, when read from a topic ([`pose_priors`]).
+    pub priors: Option<Vec<PosePrior>>,
 }
 
 /// Reads every cloud on `topic` of the bag at `bag` (a rosbag2 directory or an `.mcap`
 /// file) and looks up its sensor pose in `fixed_frame` (default: the root of the first
-/// cloud's frame tree at its stamp). Errors name the bag, the topic and the message index.
-pub fn read_bag_views(bag: &Path, topic: &str, fixed_frame: Option<&str>) -> Result<BagViews> {
+/// cloud's frame tree at its stamp), and with `pose_topic` each view's pose prior
+/// ([`pose_priors`]). Errors name the bag, the topic and the message index.
+pub fn read_bag_views(
+    bag: &Path,
+    topic: &str,
+    fixed_frame: Option<&str>,
+    pose_topic: Option<&str>,
+) -> Result<BagViews> {
     let reader = BagReader::open(bag).with_context(|| format!("opening bag {}", bag.display()))?;
     let Some(info) = reader.topic(topic) else {
         let topics: Vec<String> = reader
@@ -100,7 +113,9 @@ pub fn read_bag_views(bag: &Path, topic: &str, fixed_frame: Option<&str>) -> Res
         clouds: Vec::new(),
         poses: Vec::new(),
         fixed_frame,
+        priors: None,
     };
+    let stamps: Vec<i64> = clouds.iter().map(|c| stamp(&c.header)).collect();
     for cloud in clouds {
         let at = format!("{}: topic {topic} message {}", bag.display(), cloud.index);
         if cloud.points.is_empty() {
@@ -122,7 +137,61 @@ pub fn read_bag_views(bag: &Path, topic: &str, fixed_frame: Option<&str>) -> Res
         views.clouds.push(PointCloud::from_points(cloud.points));
         views.poses.push(pose);
     }
+    if let Some(pose_topic) = pose_topic {
+        let at = format!("{}: topic {pose_topic}", bag.display());
+        let messages = reader
+            .read::<PoseWithCovarianceStamped>(pose_topic)
+            .with_context(|| at.clone())?;
+        let covariances: Vec<(i64, [f64; 36])> = messages
+            .iter()
+            .map(|(_, m)| (stamp(&m.header), m.pose.covariance))
+            .collect();
+        views.priors = Some(pose_priors(&covariances, &stamps).with_context(|| at)?);
+    }
     Ok(views)
+}
+
+/// The pose prior of each view stamped at `stamps` (ns) from the sensor-pose covariances
+/// `covariances` (stamp in ns, ROS's row-major 6 × 6: x, y, z, then rotations about x, y,
+/// z): the latest covariance stamped at or before the view's (as a message filter's cache
+/// answers), as an isotropic prior that covers it — σ of rotation and of translation the
+/// square roots of each 3 × 3 block's largest eigenvalue. A view with no covariance before
+/// it, or a covariance with no positive variance (ROS marks an unknown one by −1), is an
+/// error naming its index.
+///
+pub fn pose_priors(covariances: &[(i64, [f64; 36])], stamps: &[i64]) -> Result<Vec<PosePrior>> {
+    let mut sorted = covariances.to_vec();
+    sorted.sort_by_key(|(t, _)| *t);
+    stamps
+        .iter()
+        .enumerate()
+        .map(|(k, &t)| {
+            let Some((_, cov)) = sorted.iter().rev().find(|(s, _)| *s <= t) else {
+                bail!("view {k} (stamped {t} ns): no covariance stamped at or before it");
+            };
+            let m = Matrix6::from_row_slice(cov);
+            let largest = |block: Matrix3<f64>| {
+                block
+                    .symmetric_eigenvalues()
+                    .iter()
+                    .copied()
+                    .fold(f64::NAN, f64::max)
+            };
+            let translation = largest(m.fixed_view::<3, 3>(0, 0).into_owned());
+            let rotation = largest(m.fixed_view::<3, 3>(3, 3).into_owned());
+            if !(translation > 0.0 && rotation > 0.0 && m.iter().all(|v| v.is_finite())) {
+                bail!(
+                    "view {k} (stamped {t} ns): the covariance gives no uncertainty (largest \
+                     translation variance {translation} m², rotation {rotation} rad²; ROS \
+                     marks an unknown one by −1)"
+                );
+            }
+            Ok(PosePrior {
+                rotation_sigma: rotation.sqrt(),
+                translation_sigma: translation.sqrt(),
+            })
+        })
+        .collect()
 }
 
 /// A header's stamp in nanoseconds.
@@ -173,6 +242,52 @@ mod tests {
         }
     }
 
+    /// A diagonal covariance: translation variances 4, 1, 1 mm², rotation 1, 1, 4 ·10⁻⁴
+    /// rad² (each block's largest: 2 mm, 0.02 rad).
+    fn covariance(scale: f64) -> [f64; 36] {
+        let mut cov = [0.0; 36];
+        for (i, v) in [
+            (0, 4e-6),
+            (7, 1e-6),
+            (14, 1e-6),
+            (21, 1e-4),
+            (28, 1e-4),
+            (35, 4e-4),
+        ] {
+            cov[i] = v * scale;
+        }
+        cov
+    }
+
+    /// Each view takes the latest covariance at or before its stamp; none before it, or
+    /// one ROS marks unknown, is an error naming the view.
+    #[test]
+    fn pose_priors_take_the_latest_covariance_and_name_what_is_missing() {
+        let covs = [(20, covariance(4.0)), (10, covariance(1.0))];
+        let p = pose_priors(&covs, &[10, 15, 20, 30]).unwrap();
+        let sigmas: Vec<(f64, f64)> = p
+            .iter()
+            .map(|p| (p.translation_sigma, p.rotation_sigma))
+            .collect();
+        for (k, (t, r)) in sigmas.iter().enumerate() {
+            let scale = if k < 2 { 1.0 } else { 2.0 };
+            assert!((t - 0.002 * scale).abs() < 1e-12, "{sigmas:?}");
+            assert!((r - 0.02 * scale).abs() < 1e-12, "{sigmas:?}");
+        }
+        let err = format!("{:#}", pose_priors(&covs, &[5]).unwrap_err());
+        assert!(
+            err.contains("view 0") && err.contains("no covariance"),
+            "{err}"
+        );
+        let mut unknown = [0.0; 36];
+        unknown[0] = -1.0;
+        let err = format!("{:#}", pose_priors(&[(0, unknown)], &[1]).unwrap_err());
+        assert!(
+            err.contains("view 0") && err.contains("no uncertainty"),
+            "{err}"
+        );
+    }
+
     /// Two clouds at 1.5 s and 2.5 s between /tf samples at 1, 2, 3 s (x = 1, 2, 3): the
     /// poses are x = 1.5 and 2.5 in `world`, the root found without --fixed-frame through
     /// a static `world → odom`; a cloud after the last sample is an error naming it.
@@ -203,7 +318,7 @@ mod tests {
             w.write("/points", 2_000_000_000, &cloud).unwrap();
         }
         w.finish().unwrap();
-        let views = read_bag_views(&path, "/points", None).unwrap();
+        let views = read_bag_views(&path, "/points", None, None).unwrap();
         assert_eq!(views.fixed_frame, "world");
         assert_eq!(views.names, ["/points#0", "/points#1"]);
         let xs: Vec<f64> = views.poses.iter().map(|p| p.translation.vector.x).collect();
@@ -226,7 +341,7 @@ mod tests {
         w.finish().unwrap();
         let err = format!(
             "{:#}",
-            read_bag_views(&path2, "/points", Some("odom"))
+            read_bag_views(&path2, "/points", Some("odom"), None)
                 .err()
                 .unwrap()
         );
@@ -234,7 +349,9 @@ mod tests {
         assert!(err.contains("future"), "{err}");
         let err = format!(
             "{:#}",
-            read_bag_views(&path2, "/nothing", None).err().unwrap()
+            read_bag_views(&path2, "/nothing", None, None)
+                .err()
+                .unwrap()
         );
         assert!(
             err.contains("no topic /nothing") && err.contains("/points"),

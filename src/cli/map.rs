@@ -121,7 +121,7 @@ pub fn run(args: MapArgs) -> Result<()> {
 /// The input's path and its cloud: the file, or the bag's clouds in the fixed frame with
 /// each point's sensor origin.
 fn read_input(args: &MapArgs) -> Result<(PathBuf, PointCloud)> {
-    if let (Some(views), Some(bag)) = (args.bag.read()?, &args.bag.bag) {
+    if let (Some(views), Some(bag)) = (args.bag.read(None)?, &args.bag.bag) {
         let mut cloud = PointCloud::default();
         for (view, pose) in views.clouds.iter().zip(&views.poses) {
             let origin = Point3::from(pose.translation.vector);

@@ -95,6 +95,18 @@ pub struct RegisterArgs {
     /// sensor origin or centroid); without it the poses follow the data alone.
     #[arg(long, value_name = "DEG,METRES", value_parser = parse_pose_sigma)]
     pose_sigma: Option<PosePrior>,
+    /// map, with --bag: each view's prior from this topic of
+    /// geometry_msgs/PoseWithCovarianceStamped, the uncertainty of the sensor's pose: the
+    /// latest message stamped at or before the view's cloud, its covariance (x, y, z, then
+    /// rotations) covered by an isotropic prior (σ the square root of each block's largest
+    /// eigenvalue). Instead of --pose-sigma.
+    #[arg(
+        long,
+        value_name = "TOPIC",
+        requires = "bag",
+        conflicts_with = "pose_sigma"
+    )]
+    pose_covariance_topic: Option<String>,
     /// map: the range noise σ of every view's points (metres), along the rays from each
     /// view's sensor origin; default: estimated from the views (the spread of each
     /// point's 16 nearest neighbours across their plane, the median over the views).
@@ -192,17 +204,20 @@ struct Input {
     labels: Vec<String>,
     views: Vec<PointCloud>,
     initial: Vec<Pose>,
+    /// Each view's pose prior, where the bag gives it.
+    priors: Option<Vec<PosePrior>>,
 }
 
 /// Reads the views from the files or the bag.
 fn read_input(args: &RegisterArgs) -> Result<Input> {
-    if let Some(read) = args.bag.read()? {
+    if let Some(read) = args.bag.read(args.pose_covariance_topic.as_deref())? {
         check_count_and_reference(args, read.clouds.len(), "the bag's topic")?;
         return Ok(Input {
             labels: read.names.clone(),
             names: read.names,
             views: read.clouds,
             initial: read.poses,
+            priors: read.priors,
         });
     }
     let names = file_names(&args.views)?;
@@ -221,6 +236,7 @@ fn read_input(args: &RegisterArgs) -> Result<Input> {
         labels: args.views.iter().map(|p| p.display().to_string()).collect(),
         views,
         initial,
+        priors: None,
     })
 }
 
@@ -232,7 +248,26 @@ pub fn run(args: RegisterArgs) -> Result<ExitCode> {
         labels,
         mut views,
         initial,
+        priors,
     } = read_input(&args)?;
+    if let Some(p) = &priors {
+        let (r, t): (Vec<f64>, Vec<f64>) = p
+            .iter()
+            .map(|p| (p.rotation_sigma.to_degrees(), p.translation_sigma * 1e3))
+            .unzip();
+        let range = |v: &[f64]| {
+            let (lo, hi) = v
+                .iter()
+                .fold((f64::MAX, f64::MIN), |(lo, hi), x| (lo.min(*x), hi.max(*x)));
+            format!("{lo:.3}–{hi:.3}")
+        };
+        println!(
+            "pose priors from {}: rotation σ {}°, translation σ {} mm",
+            args.pose_covariance_topic.as_deref().unwrap_or_default(),
+            range(&r),
+            range(&t)
+        );
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
         .build()
@@ -255,7 +290,7 @@ pub fn run(args: RegisterArgs) -> Result<ExitCode> {
         }
         None => DEFAULT_RANGE_SIGMA,
     };
-    let (params, models) = registration_params(&args, views.len(), range_sigma)?;
+    let (params, models) = registration_params(&args, views.len(), range_sigma, priors)?;
     let registration = pool
         .install(|| {
             if args.method == MethodArg::Map {
@@ -339,11 +374,13 @@ fn check_outputs(args: &RegisterArgs) -> Result<()> {
 }
 
 /// The registration's parameters from the options, validated, and the model of each of the
-/// `n` views (the range noise and the pose prior).
+/// `n` views (the range noise and the pose prior: `priors`' per view where the bag gives
+/// them, else `--pose-sigma`'s).
 fn registration_params(
     args: &RegisterArgs,
     n: usize,
     range_sigma: f64,
+    priors: Option<Vec<PosePrior>>,
 ) -> Result<(RegistrationParams, Vec<ViewModel>)> {
     let params = RegistrationParams {
         method: args.method.method(),
@@ -357,14 +394,18 @@ fn registration_params(
         ..RegistrationParams::default()
     };
     params.validate().context("bad option")?;
-    let model = ViewModel {
-        noise: RangeNoise::constant(range_sigma),
-        prior: args.pose_sigma,
-    };
-    if !model.noise.is_valid() {
+    let noise = RangeNoise::constant(range_sigma);
+    if !noise.is_valid() {
         bail!("--range-sigma must be finite and > 0, got {range_sigma}");
     }
-    Ok((params, vec![model; n]))
+    // Each view's own prior from the bag, else --pose-sigma's for all.
+    let models = (0..n)
+        .map(|k| ViewModel {
+            noise,
+            prior: priors.as_ref().map_or(args.pose_sigma, |p| Some(p[k])),
+        })
+        .collect();
+    Ok((params, models))
 }
 
 /// Gives every view without per-point sensor origins its sensor (`--sensor-origin`) and

@@ -1,4 +1,5 @@
-//! `geometry_msgs`: [`Vector3`], [`Point`], [`Quaternion`], [`Pose`], [`Transform`] and
+//! `geometry_msgs`: [`Vector3`], [`Point`], [`Quaternion`], [`Pose`], [`Transform`],
+//! [`PoseWithCovariance`], [`PoseWithCovarianceStamped`] and
 //! [`TransformStamped`], with conversions to and from nalgebra.
 
 use nalgebra::{Isometry3, Quaternion as NaQuaternion, Translation3, UnitQuaternion};
@@ -242,4 +243,75 @@ ros_message!(
     "RIHS01_0a241f87d04668d94099cbb5ba11691d5ad32c2f29682e4eb5653424bd275206",
     "std_msgs/Header header\nstring child_frame_id\ngeometry_msgs/Transform transform\n",
     [Header, Transform]
+);
+
+/// `geometry_msgs/msg/PoseWithCovariance`: a pose and the 6 × 6 covariance of its error,
+/// row-major, in the order x, y, z, then rotations about x, y, z (m², rad²).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PoseWithCovariance {
+    /// The pose.
+    pub pose: Pose,
+    /// Its covariance.
+    pub covariance: [f64; 36],
+}
+
+impl Default for PoseWithCovariance {
+    fn default() -> Self {
+        Self {
+            pose: Pose::default(),
+            covariance: [0.0; 36],
+        }
+    }
+}
+
+impl CdrStruct for PoseWithCovariance {
+    fn write_cdr(&self, w: &mut CdrWriter) {
+        self.pose.write_cdr(w);
+        w.f64_array(&self.covariance);
+    }
+    fn read_cdr(r: &mut CdrReader<'_>) -> Result<Self, CdrError> {
+        Ok(Self {
+            pose: Pose::read_cdr(r)?,
+            covariance: r.f64_array::<36>()?,
+        })
+    }
+}
+
+ros_message!(
+    PoseWithCovariance,
+    "geometry_msgs/msg/PoseWithCovariance",
+    "RIHS01_9a7c0fd234b7f45c6098745ecccd773ca1085670e64107135397aee31c02e1bb",
+    "geometry_msgs/Pose pose\nfloat64[36] covariance\n",
+    [Pose]
+);
+
+/// `geometry_msgs/msg/PoseWithCovarianceStamped`: a pose with its covariance, in
+/// `header.frame_id` at `header.stamp`.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PoseWithCovarianceStamped {
+    /// Stamp and frame.
+    pub header: Header,
+    /// The pose and its covariance.
+    pub pose: PoseWithCovariance,
+}
+
+impl CdrStruct for PoseWithCovarianceStamped {
+    fn write_cdr(&self, w: &mut CdrWriter) {
+        self.header.write_cdr(w);
+        self.pose.write_cdr(w);
+    }
+    fn read_cdr(r: &mut CdrReader<'_>) -> Result<Self, CdrError> {
+        Ok(Self {
+            header: Header::read_cdr(r)?,
+            pose: PoseWithCovariance::read_cdr(r)?,
+        })
+    }
+}
+
+ros_message!(
+    PoseWithCovarianceStamped,
+    "geometry_msgs/msg/PoseWithCovarianceStamped",
+    "RIHS01_26432f9803e43727d3c8f668d1fdb3c630f548af631e2f4e31382371bfea3b6e",
+    "std_msgs/Header header\ngeometry_msgs/PoseWithCovariance pose\n",
+    [Header, PoseWithCovariance]
 );

@@ -18,7 +18,10 @@ mod tf2;
 
 pub use builtin::{Duration, Time};
 pub use camera_info::{CameraInfo, RegionOfInterest};
-pub use geometry::{Point, Pose, Quaternion, Transform, TransformStamped, Vector3};
+pub use geometry::{
+    Point, Pose, PoseWithCovariance, PoseWithCovarianceStamped, Quaternion, Transform,
+    TransformStamped, Vector3,
+};
 pub use image::{CompressedImage, Image};
 pub use joint_state::JointState;
 pub use marker::{Marker, MarkerArray, MeshFile, UVCoordinate};

@@ -8,6 +8,11 @@
 //! - [`ScanPath::Handheld`]: a hand-held scanner walked once round the object: the azimuth
 //!   steps, the elevation (10–55°), the distance, the point looked at and the roll about
 //!   the optical axis all wander from view to view.
+//!
+//! Included beside `registration_data` (`#[path]`, as a sibling module), whose
+//! generators it shares.
+
+#![allow(dead_code)]
 
 use nalgebra::{Isometry3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
 use nbv_core::cloud::PointCloud;
@@ -18,7 +23,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 
-use super::{Scenario, pixel_grid_hits, random_error};
+use crate::registration_data::{Scenario, pixel_grid_hits, random_error};
 
 /// Half the field of view (degrees).
 const HALF_FOV_DEG: f64 = 25.0;

@@ -8,8 +8,6 @@
 
 #![allow(dead_code)]
 
-pub mod mesh_scans;
-
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use nbv_core::cloud::PointCloud;
 use nbv_core::math::Pose;
