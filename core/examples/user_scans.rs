@@ -80,9 +80,6 @@ fn run() -> Result<(), String> {
     }
     let out = out.ok_or("usage: user_scans OUTDIR --mesh MESH [options]")?;
     let mesh = mesh.ok_or("--mesh MESH is missing")?;
-    if !(spec.noise >= 0.0 && spec.noise.is_finite()) {
-        return Err(format!("--noise {}: must be a length >= 0", spec.noise));
-    }
     let object = read_mesh(&mesh).map_err(|e| e.to_string())?;
     let (scans, distance) =
         scan_mesh(&object, &spec).map_err(|e| format!("{}: {e}", mesh.display()))?;

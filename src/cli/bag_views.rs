@@ -166,7 +166,9 @@ pub fn pose_priors(covariances: &[(i64, [f64; 36])], stamps: &[i64]) -> Result<V
         .iter()
         .enumerate()
         .map(|(k, &t)| {
-            let Some((_, cov)) = sorted.iter().rev().find(|(s, _)| *s <= t) else {
+            // The covariances stamped at or before `t` are a prefix of the sorted list.
+            let before = sorted.partition_point(|(s, _)| *s <= t);
+            let Some((_, cov)) = before.checked_sub(1).map(|i| &sorted[i]) else {
                 bail!("view {k} (stamped {t} ns): no covariance stamped at or before it");
             };
             let m = Matrix6::from_row_slice(cov);

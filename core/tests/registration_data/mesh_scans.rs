@@ -81,8 +81,10 @@ pub fn scan_mesh(object: &TriMesh, spec: &MeshScanSpec) -> Result<(Scenario, f64
     if spec.views < 3 || spec.points_per_view == 0 {
         return Err("need at least 3 views and 1 point per view".into());
     }
-    let noise = Normal::new(0.0, spec.noise)
-        .map_err(|e| format!("noise {}: must be a length >= 0 ({e})", spec.noise))?;
+    if !(spec.noise >= 0.0 && spec.noise.is_finite()) {
+        return Err(format!("noise {}: must be a length >= 0", spec.noise));
+    }
+    let noise = Normal::new(0.0, spec.noise).map_err(|e| e.to_string())?;
     let vertices: Vec<parry3d::math::Vector> = object
         .vertices
         .iter()
