@@ -317,7 +317,7 @@ impl Problem<'_> {
         let (state, stop) = loop {
             // Which points take part: those matched at the current poses.
             self.unmask();
-            let matched = self.data(&corrections).matched;
+            let matched = self.data(&corrections, false).matched;
             if std::mem::take(&mut first) {
                 at_initial = Some(self.caches().clone());
             }
@@ -374,9 +374,9 @@ impl Problem<'_> {
         let identity = vec![Pose::identity(); w];
         match at_initial {
             Some(mut caches) => {
-                self.data_using(&identity, &mut caches).cost + self.prior_cost(&identity)
+                self.data_using(&identity, &mut caches, false).cost + self.prior_cost(&identity)
             }
-            None => self.state(identity).objective,
+            None => self.data(&identity, false).cost + self.prior_cost(&identity),
         }
     }
 
@@ -483,7 +483,7 @@ impl Problem<'_> {
 
     /// The state at `corrections`, its data term evaluated.
     fn state(&self, corrections: Vec<Pose>) -> State {
-        let data = self.data(&corrections);
+        let data = self.data(&corrections, true);
         let objective = data.cost + self.prior_cost(&corrections);
         State {
             corrections,
@@ -492,8 +492,10 @@ impl Problem<'_> {
         }
     }
 
-    fn data(&self, corrections: &[Pose]) -> DataTerm {
-        self.data_using(corrections, &mut self.caches())
+    /// The data term at `corrections` ([`data_using`](Self::data_using)) with the
+    /// problem's own caches.
+    fn data(&self, corrections: &[Pose], normal_equations: bool) -> DataTerm {
+        self.data_using(corrections, &mut self.caches(), normal_equations)
     }
 
     /// The pairs' nearest-point caches. Evaluations never overlap; a poisoned lock only
@@ -504,8 +506,14 @@ impl Problem<'_> {
             .unwrap_or_else(std::sync::PoisonError::into_inner)
     }
 
-    /// The data term at `corrections`, with the nearest-point caches `nearest`.
-    fn data_using(&self, corrections: &[Pose], nearest: &mut [PairNearest]) -> DataTerm {
+    /// The data term at `corrections`, with the nearest-point caches `nearest`, its normal
+    /// equations summed only with `normal_equations`.
+    fn data_using(
+        &self,
+        corrections: &[Pose],
+        nearest: &mut [PairNearest],
+        normal_equations: bool,
+    ) -> DataTerm {
         let poses: Vec<Pose> = corrections
             .iter()
             .zip(self.initial)
@@ -523,6 +531,7 @@ impl Problem<'_> {
             &poses,
             &centres,
             &self.kernel,
+            normal_equations,
         )
     }
 

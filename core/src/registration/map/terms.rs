@@ -156,7 +156,9 @@ impl Kernel {
 /// view's current correction centre). Each work item sums its inliers' blocks of the
 /// normal equations as it finds them (a few 3×3 products per inlier, cheaper than keeping
 /// the inliers for later: a record per inlier was ~8 % of `nbv register`'s time in page
-/// faults alone); the global matrices are assembled on first use.
+/// faults alone), unless the evaluation is for its cost and matches only (a stage's
+/// selection, the objective at the initial poses); the global matrices are assembled on
+/// first use.
 #[derive(Debug, Clone)]
 pub(crate) struct DataTerm {
     /// Σ weight·ρ over all used source points.
@@ -169,8 +171,8 @@ pub(crate) struct DataTerm {
     pub sum_sq: f64,
     /// Per pair, per used source point: matched within `Kernel::select` σ.
     pub matched: Vec<Vec<bool>>,
-    /// Each work item's blocks, in order.
-    chunks: Vec<Blocks>,
+    /// Each work item's blocks, in order; `None` for an evaluation without them.
+    chunks: Option<Vec<Blocks>>,
     views: usize,
     normal: OnceCell<(DMatrix<f64>, DVector<f64>)>,
 }
@@ -188,12 +190,19 @@ impl DataTerm {
 
     /// The normal equations, summed over the work items in their order (identical at any
     /// thread count).
+    ///
+    /// # Panics
+    /// On a term evaluated without them (a bug of the caller).
     fn normal(&self) -> &(DMatrix<f64>, DVector<f64>) {
         self.normal.get_or_init(|| {
+            let chunks = self
+                .chunks
+                .as_ref()
+                .expect("the normal equations of a data term evaluated without them");
             let w = self.views;
             let mut hessian = DMatrix::zeros(6 * w, 6 * w);
             let mut gradient = DVector::zeros(6 * w);
-            for b in &self.chunks {
+            for b in chunks {
                 let (v, t) = (b.source, b.target);
                 add_block(&mut hessian, v, v, &b.hvv);
                 add_block(&mut hessian, t, t, &b.hww);
@@ -308,12 +317,13 @@ struct Sums {
     inliers: usize,
     sum_sq: f64,
     matched: Vec<bool>,
-    blocks: Blocks,
+    blocks: Option<Blocks>,
 }
 
 /// Evaluates the data term of `pairs` at the poses `poses` (view → world), the
 /// perturbation of view `v` being centred at `centres[v]` (world); `nearest` holds each
-/// pair's correspondences, brought up to date for `poses` first.
+/// pair's correspondences, brought up to date for `poses` first. Without
+/// `normal_equations` only the cost, the counts and the matches are kept.
 pub(crate) fn evaluate(
     views: &[MapView],
     pairs: &[Pair],
@@ -321,6 +331,7 @@ pub(crate) fn evaluate(
     poses: &[Pose],
     centres: &[Point3<f64>],
     kernel: &Kernel,
+    normal_equations: bool,
 ) -> DataTerm {
     // Each work item brings a chunk of a pair's correspondences up to date and sums its
     // terms at once, on the same thread.
@@ -336,6 +347,7 @@ pub(crate) fn evaluate(
                 poses,
                 centres,
                 kernel,
+                normal_equations,
             )
         })
         .collect();
@@ -346,7 +358,7 @@ pub(crate) fn evaluate(
         inlier_count: 0,
         sum_sq: 0.0,
         matched: vec![Vec::new(); pairs.len()],
-        chunks: Vec::with_capacity(items.len()),
+        chunks: normal_equations.then(|| Vec::with_capacity(items.len())),
         views: w,
         normal: OnceCell::new(),
     };
@@ -358,7 +370,9 @@ pub(crate) fn evaluate(
         term.inliers[t] += s.inliers;
         term.inlier_count += s.inliers;
         term.sum_sq += s.sum_sq;
-        term.chunks.push(s.blocks);
+        if let (Some(chunks), Some(blocks)) = (&mut term.chunks, s.blocks) {
+            chunks.push(blocks);
+        }
     }
     term
 }
@@ -405,6 +419,7 @@ fn chunk_sums(
     poses: &[Pose],
     centres: &[Point3<f64>],
     kernel: &Kernel,
+    normal_equations: bool,
 ) -> Sums {
     let (src, dst) = (&views[pair.source], &views[pair.target]);
     let pt = &poses[pair.target];
@@ -415,10 +430,12 @@ fn chunk_sums(
     let (rotation, translation) = matrix(&to_target);
     let (pt_rotation, pt_translation) = matrix(pt);
     // The correction centres in the target's frame.
-    let mut linear = LinearSums::new(
-        [pair.source, pair.target]
-            .map(|v| pt_rotation.transpose() * (centres[v].coords - pt_translation)),
-    );
+    let mut linear = normal_equations.then(|| {
+        LinearSums::new(
+            [pair.source, pair.target]
+                .map(|v| pt_rotation.transpose() * (centres[v].coords - pt_translation)),
+        )
+    });
     // The source's sensor (where its rays are known): it can only have seen target
     // surfaces that face it.
     let eye = to_target * src.centre;
@@ -515,13 +532,15 @@ fn chunk_sums(
         }
         inliers += 1;
         sum_sq += e.norm_squared();
-        linear.add(&(info * (pair.weight * weight)), &x.coords, &y.coords);
+        if let Some(linear) = &mut linear {
+            linear.add(&(info * (pair.weight * weight)), &x.coords, &y.coords);
+        }
     }
     Sums {
         cost,
         inliers,
         sum_sq,
         matched,
-        blocks: linear.blocks(pair.source, pair.target, &pt_rotation),
+        blocks: linear.map(|l| l.blocks(pair.source, pair.target, &pt_rotation)),
     }
 }
