@@ -443,3 +443,66 @@ fn after_a_stall_the_hull_takes_what_eq_4_leaves() {
     let tall = off.iter().find(|o| o.0 == "tall-bottle").unwrap();
     assert!(tall.1 < 0.95, "{off:?}");
 }
+
+/// `registration.calibration_views`: an episode that explores with fewer views than the
+/// self-calibration reads takes more of the object's candidate viewpoints for it. The
+/// calibration's views join the registration and the hand-eye estimate, not the
+/// exploration: its views are the same as without them.
+#[test]
+fn the_calibration_takes_the_views_it_lacks_after_the_exploration() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = generated_scene(dir.path());
+    let run = |wanted: &str| {
+        let setting = format!("registration.calibration_views={wanted}");
+        explore(
+            &scene,
+            &dir.path().join(wanted),
+            &[
+                "--no-pictures",
+                "--set",
+                &setting,
+                "--set",
+                "registration.baselines=false",
+            ],
+        )
+    };
+    let plain = run("0");
+    let more = run("12");
+    let (a, b) = (&plain["objects"][0], &more["objects"][0]);
+    assert_eq!(a["calibration_views"], 0);
+    let views = a["views"].as_array().unwrap().len();
+    assert!(views < 12, "{views} views already");
+    assert_eq!(a["views"], b["views"], "the exploration's views changed");
+    // The coverage by view is read at the registered poses, which the added views move
+    // by a little.
+    let curve = |o: &Value| -> Vec<f64> {
+        o["coverage_by_view"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(f)
+            .collect()
+    };
+    let (ca, cb) = (curve(a), curve(b));
+    assert_eq!(ca.len(), views + 1);
+    assert!(
+        ca.iter().zip(&cb).all(|(x, y)| (x - y).abs() < 0.01),
+        "{ca:?} {cb:?}"
+    );
+    let extra = b["calibration_views"].as_u64().unwrap() as usize;
+    assert_eq!(
+        views + extra,
+        12,
+        "{views} views and {extra} for the calibration"
+    );
+    assert_eq!(plain["hand_eye"]["estimate"]["views"], views);
+    assert_eq!(more["hand_eye"]["estimate"]["views"], 12);
+    // More standstill errors averaged: the estimate's own σ shrinks.
+    let sigma = |r: &Value| f(&r["hand_eye"]["estimate"]["sigma"][1]);
+    assert!(
+        sigma(&more) < sigma(&plain),
+        "{} {}",
+        sigma(&more),
+        sigma(&plain)
+    );
+}

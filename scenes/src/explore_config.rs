@@ -201,6 +201,7 @@ impl Scene {
             uncertainty: self.pose_uncertainty(),
             align_to_workcell: self.registration.align_to_workcell,
             calibrate_hand_eye: self.registration.calibrate_hand_eye,
+            calibration_views: self.registration.calibration_views as usize,
             registration_baselines: self.registration.baselines,
             registration_points: self.registration.points_per_view as usize,
             max_correction: (

@@ -22,7 +22,8 @@ pub fn summary(report: &ExploreReport) -> String {
         s += &workcell_line(w);
     }
     if let Some(h) = &report.hand_eye {
-        s += &hand_eye_lines(h);
+        let extra = report.objects.iter().map(|o| o.calibration_views).sum();
+        s += &hand_eye_lines(h, extra);
     }
     s += &legend();
     s
@@ -146,8 +147,9 @@ fn workcell_line(w: &WorkcellEntry) -> String {
 
 /// The self-calibration: the hand-eye estimate (beside the injected error in the twin),
 /// its σ and the joint offsets, and the calibration as the views see it.
-fn hand_eye_lines(h: &HandEyeEntry) -> String {
-    let mut s = hand_eye_estimate_line(h);
+/// `extra`: the views taken for it alone.
+fn hand_eye_lines(h: &HandEyeEntry, extra: usize) -> String {
+    let mut s = hand_eye_estimate_line(h, extra);
     s += &joint_offsets_line(h);
     if let (Some(r), Some(t)) = (h.view_rotation_error_deg, h.view_translation_error) {
         s += &format!(
@@ -163,11 +165,16 @@ fn hand_eye_lines(h: &HandEyeEntry) -> String {
 }
 
 /// The hand-eye estimate, and in the twin how far it is off the injected error.
-fn hand_eye_estimate_line(h: &HandEyeEntry) -> String {
+fn hand_eye_estimate_line(h: &HandEyeEntry, extra: usize) -> String {
     let e = &h.estimate;
     let r = e.rotation.map(f64::to_degrees);
+    let taken_for_it = if extra > 0 {
+        format!("{extra} of them taken for it, ")
+    } else {
+        String::new()
+    };
     let mut line = format!(
-        "  hand-eye estimate from {} views ({} with their table): rotation [{:.2}, {:.2}, {:.2}]° translation [{:.1}, {:.1}, {:.1}] mm",
+        "  hand-eye estimate from {} views ({taken_for_it}{} with their table): rotation [{:.2}, {:.2}, {:.2}]° translation [{:.1}, {:.1}, {:.1}] mm",
         e.views,
         e.table_views,
         r[0],

@@ -134,6 +134,10 @@ pub struct ObjectEntry {
     pub truth: String,
     /// Short-range views taken.
     pub views: Vec<ViewEntry>,
+    /// Viewpoints of `views` visited again for the self-calibration alone
+    /// (`[registration] calibration_views`): in the registration, not in the exploration's
+    /// views or its coverage by view.
+    pub calibration_views: usize,
     /// Viewpoints tried (taken + failed).
     pub viewpoints_tried: usize,
     /// Viewpoints that failed, with the reasons.
@@ -596,6 +600,7 @@ fn object_entry(
         cluster_points: object.cluster.len(),
         truth: what,
         views: object.views.iter().map(view_entry).collect(),
+        calibration_views: object.calibration_views.len(),
         viewpoints_tried: object.views.len() + object.failures.len(),
         viewpoints_failed: object.failures.iter().map(|f| f.reason.clone()).collect(),
         candidates_evaluated: object.candidates_evaluated,

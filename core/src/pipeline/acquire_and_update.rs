@@ -5,6 +5,7 @@
 //! [`object_points`], the object's points of a frame — cropped to its region, the table
 //! and the known obstacles taken out.
 
+use super::episode_state::Episode;
 use super::step_timer::timed;
 use super::{ExplorationMap, ExploreConfig, ObjectRegion, PipelineError, StepTimes};
 use crate::calibration::TableEvidence;
@@ -57,42 +58,52 @@ pub(super) fn acquire_and_update(
     predicted: &[usize],
     times: &mut StepTimes,
 ) -> Result<Observation, PipelineError> {
-    let (frame, smoothed, free, free_space, joints, pose) =
-        timed(&mut times.acquisition, || -> Result<_, PipelineError> {
-            let (frame, no_return) = capture_burst(rig.camera, config)?;
-            let joints = rig.arm.joints()?;
-            let spec = rig.camera.spec();
-            let pose = sensor_pose(&rig.robot, &rig.base, &joints, &spec.frame)?;
-            let cloud = depth_frame_to_cloud(&frame, spec, &pose)?;
-            let free = free_rays(&no_return, spec, &pose, config.no_return_clearing);
-            let noise = config
-                .uncertainty
-                .camera_noise
-                .averaged(config.frames_per_view.max(1));
-            let free_space = camera_free_space(&frame, spec, &pose, noise)?;
-            // The frame smoothed for the registration alone.
-            let smoothed = (config.depth_smoothing == 0)
-                .then(|| {
-                    let smoothed =
-                        smooth_frame(frame.clone(), REGISTRATION_SMOOTHING, |z| noise.sigma(z));
-                    depth_frame_to_cloud(&smoothed, spec, &pose)
-                })
-                .transpose()?;
-            Ok((cloud, smoothed, free, free_space, joints, pose))
-        })?;
-    let gain = timed(&mut times.mapping, || -> Result<_, PipelineError> {
+    let (mut seen, free) = acquire(rig, config, times)?;
+    seen.gain = timed(&mut times.mapping, || -> Result<_, PipelineError> {
         let before = map.grid.clone();
-        map.insert(&frame, rig.camera.spec().range[1], &free)?;
+        map.insert(&seen.frame, rig.camera.spec().range[1], &free)?;
         Ok(InformationGain::between(&before, &map.grid, predicted)?)
     })?;
-    Ok(Observation {
-        joints,
-        sensor_pose: pose,
-        frame_points: frame.len(),
-        frame,
-        free_space,
-        smoothed,
-        gain,
+    Ok(seen)
+}
+
+/// Acquires at the arm's pose (timed as acquisition), the map left as it is: the view
+/// (its gain zero) and the rays along which its pixels returned nothing.
+pub(super) fn acquire(
+    rig: &mut Rig<'_>,
+    config: &ExploreConfig,
+    times: &mut StepTimes,
+) -> Result<(Observation, Vec<FreeRay>), PipelineError> {
+    timed(&mut times.acquisition, || -> Result<_, PipelineError> {
+        let (frame, no_return) = capture_burst(rig.camera, config)?;
+        let joints = rig.arm.joints()?;
+        let spec = rig.camera.spec();
+        let pose = sensor_pose(&rig.robot, &rig.base, &joints, &spec.frame)?;
+        let cloud = depth_frame_to_cloud(&frame, spec, &pose)?;
+        let free = free_rays(&no_return, spec, &pose, config.no_return_clearing);
+        let noise = config
+            .uncertainty
+            .camera_noise
+            .averaged(config.frames_per_view.max(1));
+        let free_space = camera_free_space(&frame, spec, &pose, noise)?;
+        // The frame smoothed for the registration alone.
+        let smoothed = (config.depth_smoothing == 0)
+            .then(|| {
+                let smoothed =
+                    smooth_frame(frame.clone(), REGISTRATION_SMOOTHING, |z| noise.sigma(z));
+                depth_frame_to_cloud(&smoothed, spec, &pose)
+            })
+            .transpose()?;
+        let seen = Observation {
+            joints,
+            sensor_pose: pose,
+            frame_points: cloud.len(),
+            frame: cloud,
+            free_space,
+            smoothed,
+            gain: InformationGain::default(),
+        };
+        Ok((seen, free))
     })
 }
 
@@ -112,6 +123,65 @@ fn camera_free_space(
         &frame.depth,
         |z| 3.0 * noise.sigma(z),
     )?)
+}
+
+/// How far (m) one view can grow an object's region past its sides and top: twice the
+/// 3 cm margin, more than phase 1's box falls short by at a side the laser did not see
+/// (5 cm on a box turned on paper-env2's table).
+pub(super) const REGION_REACH: f64 = 0.06;
+
+/// What a view saw of one object ([`object_view`]).
+pub(super) struct ObjectView {
+    /// The object's points of the frame ([`object_points`]).
+    pub cloud: PointCloud,
+    /// The object's points of the frame smoothed for the registration, cut as `cloud`.
+    pub registration_cloud: Option<PointCloud>,
+    /// The table the view itself sees around the object (with the object's surface: its
+    /// pose error moves it), when it was found.
+    pub table: Option<PlaneFit>,
+    /// What the table says of the view's pose ([`table_evidence`]).
+    pub table_seen: Option<TableEvidence>,
+}
+
+/// The object's part of the view `seen`: its points in `region` above the view's own table
+/// (with `object_surface`; else above phase 1's `table`), as acquired and smoothed, and the
+/// table's evidence on the view's pose (timed as registration).
+pub(super) fn object_view(
+    ep: &Episode<'_, '_>,
+    seen: &Observation,
+    region: &ObjectRegion,
+    table: Option<&PlaneFit>,
+    object_surface: bool,
+    times: &mut StepTimes,
+) -> ObjectView {
+    let config = ep.config;
+    let view_table = if object_surface {
+        region.view_table(&seen.frame.points, REGION_REACH)
+    } else {
+        None
+    };
+    let cut = view_table.as_ref().or(table);
+    let cloud = object_points(&seen.frame, region, cut, config);
+    let registration_cloud = seen
+        .smoothed
+        .as_ref()
+        .map(|s| object_points(s, region, cut, config));
+    let table_seen = timed(&mut times.registration, || {
+        table_evidence(
+            &seen.frame,
+            &seen.sensor_pose,
+            ep.rig.camera.spec().range[1],
+            &ep.footprints,
+            table,
+            config,
+        )
+    });
+    ObjectView {
+        cloud,
+        registration_cloud,
+        table: view_table,
+        table_seen,
+    }
 }
 
 /// The object's points of a frame's cloud: cut to its region, the table and the known
@@ -144,7 +214,7 @@ const FOOTPRINT_LIFT: f64 = 0.001;
 /// known obstacles, and nearer than three of a single frame's σ short of the camera's
 /// `max_range` (there the limit drops the far side of the noise before the burst is
 /// averaged); `None` unless the self-calibration uses it and phase 1 found the table.
-pub(super) fn table_evidence(
+fn table_evidence(
     frame: &PointCloud,
     pose: &Pose,
     max_range: f64,

@@ -2,6 +2,7 @@
 //! then each object explored by Algorithm 1 and its views registered.
 
 use super::ExplorationMap;
+use super::calibration_views::calibration_share;
 use super::episode_state::Episode;
 use super::fuse_surface::fuse_surface;
 use super::object_loop::explore_object;
@@ -58,6 +59,7 @@ pub fn explore(
             index: j,
             cluster: cluster.cloud(&segmentation.filtered),
             views: Vec::new(),
+            calibration_views: Vec::new(),
             failures: Vec::new(),
             candidates_evaluated: 0,
             retreats: 0,
@@ -73,7 +75,29 @@ pub fn explore(
         });
         if config.mode != ExploreMode::MidOnly {
             let table = segmentation.table.as_ref();
-            explore_object(&mut ep, &nbv, &mut map, &region, table, &mut object)?;
+            // The views the calibration still lacks, shared over the objects left.
+            let before: usize = objects
+                .iter()
+                .map(|o: &ObjectExploration| o.registered_views().count())
+                .sum();
+            let after = segmentation.clusters.len() - j - 1;
+            let calibration = |o: &ObjectExploration| {
+                let taken = before + o.registered_views().count();
+                if config.calibrate_hand_eye {
+                    calibration_share(config.calibration_views, taken, after)
+                } else {
+                    0
+                }
+            };
+            explore_object(
+                &mut ep,
+                &nbv,
+                &mut map,
+                &region,
+                table,
+                &mut object,
+                &calibration,
+            )?;
         }
         ep.observer.event(&ExploreEvent::ObjectDone {
             object: j,

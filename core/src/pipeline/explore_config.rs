@@ -92,6 +92,13 @@ pub struct ExploreConfig {
     /// ([`TableEvidence`](crate::calibration::TableEvidence)), and register each object again from the
     /// calibrated poses ([`estimate_hand_eye`](crate::calibration::estimate_hand_eye)).
     pub calibrate_hand_eye: bool,
+    /// Camera views the self-calibration reads at least, per episode: with
+    /// `calibrate_hand_eye`, an object whose exploration leaves the episode short of them
+    /// takes more views of it for the calibration alone
+    /// ([`ObjectExploration::calibration_views`]).
+    ///
+    /// [`ObjectExploration::calibration_views`]: super::ObjectExploration::calibration_views
+    pub calibration_views: usize,
     /// Register each object by the paper's p-ICP-GPA and sequential ICP too, beside the
     /// model's MAP registration (for comparison only: the model does not use them).
     pub registration_baselines: bool,

@@ -10,9 +10,10 @@
 //! devices. Progress goes to an [`ExploreObserver`]. One file per stage of Figure 2:
 //! `phase_one` (sweep, workcell alignment, segmentation, grid), `object_loop` (Algorithm
 //! 1 for one object), `candidates` (Algorithm 2 around the object), `plan_and_execute`,
-//! `acquire_and_update`, `register_views`; `exploration` runs them in order.
+//! `acquire_and_update`, `register_views`, `calibration_views`; `exploration` runs them in order.
 
 mod acquire_and_update;
+mod calibration_views;
 mod candidates;
 mod episode_state;
 mod exploration;
@@ -30,6 +31,7 @@ mod results;
 mod step_timer;
 
 pub use acquire_and_update::REGISTRATION_SMOOTHING;
+pub use calibration_views::calibration_share;
 pub use candidates::{
     ObjectSurface, ViewCandidates, object_surface_score, view_candidates, viewing_centre,
 };

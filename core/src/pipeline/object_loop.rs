@@ -3,7 +3,8 @@
 //! acquired and the grid updated, until the stop rule, the view cap, no reachable
 //! viewpoint (after one retreat) or a first view showing no object ends it.
 
-use super::acquire_and_update::{acquire_and_update, object_points, table_evidence};
+use super::acquire_and_update::{ObjectView, REGION_REACH, acquire_and_update, object_view};
+use super::calibration_views::take_calibration_views;
 use super::candidates::{ObjectSurface, ViewCandidates, view_candidates, viewing_centre};
 use super::episode_state::Episode;
 use super::plan_and_execute::{plan_clearing_start, retrace};
@@ -21,13 +22,10 @@ use crate::nbv::{
 use crate::planning::PlannedPath;
 use crate::rig::RigError;
 
-/// How far (m) one view can grow an object's region past its sides and top: twice the
-/// 3 cm margin, more than phase 1's box falls short by at a side the laser did not see
-/// (5 cm on a box turned on paper-env2's table).
-const REGION_REACH: f64 = 0.06;
-
 /// Explores `object` (its cluster in `region`, standing on `table`) until a stop; the
-/// views go into `object`, the collisions into the episode, each view into `map`.
+/// views go into `object`, the collisions into the episode, each view into `map`. Then
+/// takes the `calibration(object)` views the self-calibration asks of it
+/// ([`take_calibration_views`]).
 pub(super) fn explore_object(
     ep: &mut Episode<'_, '_>,
     nbv: &NextBestView,
@@ -35,6 +33,7 @@ pub(super) fn explore_object(
     region: &ObjectRegion,
     table: Option<&PlaneFit>,
     object: &mut ObjectExploration,
+    calibration: &dyn Fn(&ObjectExploration) -> usize,
 ) -> Result<(), PipelineError> {
     let mut state = ObjectLoop::new(ep.config, nbv, map, region, table, object)?;
     object.stop = loop {
@@ -56,6 +55,11 @@ pub(super) fn explore_object(
             }
         }
     };
+    let count = calibration(object);
+    if count > 0 && !matches!(object.stop, ObjectStop::NotAnObject { .. }) {
+        let candidates = state.sample(ep, map, object)?;
+        take_calibration_views(ep, candidates, &state.region, table, object, count)?;
+    }
     Ok(())
 }
 
@@ -365,28 +369,20 @@ impl<'a> ObjectLoop<'a> {
         if self.nbv.params.object_surface {
             self.grow_region(ep, object.index, &seen.frame)?;
         }
-        // With the object's surface, the table each view sees (its pose error moves it).
-        let view_table = if self.nbv.params.object_surface {
-            self.region.view_table(&seen.frame.points, REGION_REACH)
-        } else {
-            None
-        };
-        let table = view_table.as_ref().or(self.table);
-        let cloud = object_points(&seen.frame, &self.region, table, config);
-        let registration_cloud = seen
-            .smoothed
-            .as_ref()
-            .map(|s| object_points(s, &self.region, table, config));
-        let table_seen = timed(&mut object.times.registration, || {
-            table_evidence(
-                &seen.frame,
-                &seen.sensor_pose,
-                ep.rig.camera.spec().range[1],
-                &ep.footprints,
-                self.table,
-                config,
-            )
-        });
+        let ObjectView {
+            cloud,
+            registration_cloud,
+            table,
+            table_seen,
+        } = object_view(
+            ep,
+            &seen,
+            &self.region,
+            self.table,
+            self.nbv.params.object_surface,
+            &mut object.times,
+        );
+        let table = table.as_ref().or(self.table);
         ep.observer
             .event(&ExploreEvent::GridUpdated { grid: &map.grid });
         self.visited.push(candidate.viewpoint.pose);

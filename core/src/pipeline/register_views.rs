@@ -41,6 +41,17 @@ fn registration_views(
     views
 }
 
+/// The model's points, one cloud per registration view: the cluster and the exploration's
+/// views as acquired; the calibration's views (after them) empty, since they serve the
+/// calibration's evidence on their poses, not the model.
+fn model_points(object: &ObjectExploration, config: &ExploreConfig) -> Vec<PointCloud> {
+    let mut points = registration_views(object, &object.cluster, config, false);
+    for cloud in points.iter_mut().skip(1 + object.explored_views().count()) {
+        *cloud = PointCloud::default();
+    }
+    points
+}
+
 /// Where the laser sweep saw empty space around `cluster` (within the correspondence
 /// distance of its bounding box), its rays ending three of the laser's σ short of their
 /// hits: the free space the pipeline gives the MAP registration of `cluster`'s views
@@ -138,9 +149,9 @@ pub(super) fn register_object(
         calibrated: false,
         gpa_accepted: accepted(&gpa),
         icp_accepted: accepted(&icp),
-        // The model's points: the cluster and the views as acquired (the registration's
-        // reference and smoothed views stand for them).
-        points: registration_views(object, &object.cluster, config, false),
+        // The model's points: the cluster and the exploration's views as acquired (the
+        // registration's reference and smoothed views stand for them).
+        points: model_points(object, config),
         views,
         map,
         gpa,

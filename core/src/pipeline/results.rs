@@ -241,6 +241,10 @@ pub struct ObjectExploration {
     pub cluster: PointCloud,
     /// The short-range views taken, in order.
     pub views: Vec<AcquiredView>,
+    /// Viewpoints of `views` visited again for the self-calibration alone (each visit a
+    /// standstill error of its own; `[registration] calibration_views`). They join the
+    /// registration after `views` and are no part of the exploration's choice of views.
+    pub calibration_views: Vec<AcquiredView>,
     /// Viewpoints that failed.
     pub failures: Vec<ViewFailure>,
     /// Candidate viewpoints evaluated (summed over the NBV rounds).
@@ -262,15 +266,26 @@ pub struct ObjectExploration {
 }
 
 impl ObjectExploration {
-    /// The camera views the registration takes (those with points), in order:
-    /// registration view `k ≥ 1` is the `k`-th of them (view 0 is the cluster).
+    /// The camera views the registration takes (those with points), in order — the
+    /// exploration's, then the calibration's: registration view `k ≥ 1` is the `k`-th of
+    /// them (view 0 is the cluster).
     pub fn registered_views(&self) -> impl Iterator<Item = &AcquiredView> {
+        self.explored_views().chain(
+            self.calibration_views
+                .iter()
+                .filter(|v| !v.cloud.is_empty()),
+        )
+    }
+
+    /// The exploration's camera views with points, in order: the first of
+    /// [`registered_views`](Self::registered_views), the model's.
+    pub fn explored_views(&self) -> impl Iterator<Item = &AcquiredView> {
         self.views.iter().filter(|v| !v.cloud.is_empty())
     }
 
-    /// The object's camera views as depth images of its points, each at its registered
-    /// camera pose (the MAP registration's, where it was accepted; else as reported), in
-    /// the order of [`registered_views`](Self::registered_views).
+    /// The exploration's camera views as depth images of their points, each at its
+    /// registered camera pose (the MAP registration's, where it was accepted; else as
+    /// reported), in the order of [`explored_views`](Self::explored_views).
     pub fn depth_views(
         &self,
         intrinsics: crate::surface::PinholeIntrinsics,
@@ -279,7 +294,7 @@ impl ObjectExploration {
             .registration
             .as_ref()
             .filter(|r| r.map_accepted && r.map.poses.len() == r.points.len());
-        self.registered_views()
+        self.explored_views()
             .enumerate()
             .map(|(k, v)| {
                 let mut view = crate::surface::DepthView::from_points(
@@ -389,6 +404,7 @@ mod tests {
             index: 0,
             cluster: view.clone(),
             views: Vec::new(),
+            calibration_views: Vec::new(),
             failures: Vec::new(),
             candidates_evaluated: 0,
             retreats: 0,

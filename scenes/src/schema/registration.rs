@@ -37,6 +37,14 @@ pub struct Registration {
     /// each view's table points fall off the table top the laser measured, then register
     /// each object again from the calibrated poses (docs/registration.md). Default true.
     pub calibrate_hand_eye: bool,
+    /// Camera views the self-calibration reads at least, per episode: when the exploration
+    /// takes fewer, each object, once explored, is seen from more of its candidate
+    /// viewpoints for the calibration alone. Each view carries a standstill error of its
+    /// own, and the estimate's spread falls with the views (docs/hand-eye.md); the views
+    /// join the object's registration, not its model, its views or its coverage by view.
+    /// Default 0 (none): with `nbv.hull_score = "always"`, 24 holds the calibration of the
+    /// twin preset's views.
+    pub calibration_views: u32,
     /// Run the paper's p-ICP-GPA and sequential ICP beside the model's MAP registration,
     /// for the report's comparison (`error_pgpa`, `error_icp`) and Table III. They do not
     /// change the model; turning them off makes an episode several times cheaper in CPU
@@ -56,6 +64,7 @@ impl Default for Registration {
             max_correction_m: 0.03,
             align_to_workcell: true,
             calibrate_hand_eye: true,
+            calibration_views: 0,
             baselines: true,
         }
     }
