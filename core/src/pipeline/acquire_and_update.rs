@@ -7,13 +7,14 @@
 
 use super::episode_state::Episode;
 use super::step_timer::timed;
-use super::{ExplorationMap, ExploreConfig, ObjectRegion, PipelineError, StepTimes};
+use super::{AcquiredView, ExplorationMap, ExploreConfig, ObjectRegion, PipelineError, StepTimes};
 use crate::calibration::TableEvidence;
 use crate::cloud::{PlaneFit, PointCloud};
 use crate::kinematics::Joints;
 use crate::math::Pose;
-use crate::nbv::InformationGain;
+use crate::nbv::{Candidate, InformationGain};
 use crate::occupancy::FreeRay;
+use crate::planning::PlanStats;
 use crate::registration::{DepthImageFreeSpace, RangeNoise};
 use crate::rig::{
     DepthCamera, DepthCameraSpec, DepthFrame, Rig, RigError, average_frames, depth_frame_to_cloud,
@@ -141,6 +142,38 @@ pub(super) struct ObjectView {
     pub table: Option<PlaneFit>,
     /// What the table says of the view's pose ([`table_evidence`]).
     pub table_seen: Option<TableEvidence>,
+}
+
+impl ObjectView {
+    /// The view as the object records it: what `seen` saw of the object at `candidate`'s
+    /// viewpoint, reached by a path of `plan`; no failure before it and no new surface
+    /// counted (the exploration sets both).
+    pub(super) fn recorded(
+        self,
+        candidate: &Candidate,
+        seen: &Observation,
+        plan: PlanStats,
+    ) -> AcquiredView {
+        AcquiredView {
+            viewpoint: candidate.viewpoint.pose,
+            score: candidate.score,
+            predicted: (
+                candidate.visible.unknown.len(),
+                candidate.visible.occupied.len(),
+            ),
+            joints: seen.joints,
+            sensor_pose: seen.sensor_pose,
+            frame_points: seen.frame_points,
+            cloud: self.cloud,
+            free_space: seen.free_space.clone(),
+            registration_cloud: self.registration_cloud,
+            gain: seen.gain,
+            table: self.table_seen,
+            plan,
+            failures_before: 0,
+            new_surface: 0.0,
+        }
+    }
 }
 
 /// The object's part of the view `seen`: its points in `region` above the view's own table

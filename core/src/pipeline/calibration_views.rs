@@ -5,12 +5,12 @@
 //! the estimate's spread falls with the views (docs/hand-eye.md); these views add that
 //! evidence after the object's coverage is reached instead of before.
 
-use super::acquire_and_update::{ObjectView, acquire, object_view};
+use super::acquire_and_update::{acquire, object_view};
 use super::candidates::ViewCandidates;
 use super::episode_state::Episode;
 use super::plan_and_execute::plan_clearing_start;
 use super::step_timer::timed;
-use super::{AcquiredView, ExploreEvent, ObjectExploration, ObjectRegion, PipelineError};
+use super::{ExploreEvent, ObjectExploration, ObjectRegion, PipelineError};
 use crate::cloud::PlaneFit;
 use crate::rig::RigError;
 
@@ -78,12 +78,7 @@ pub(super) fn take_calibration_views(
             Err(e) => return Err(e.into()),
         }
         let (seen, _) = acquire(ep.rig, config, &mut object.times)?;
-        let ObjectView {
-            cloud,
-            registration_cloud,
-            table_seen,
-            ..
-        } = object_view(
+        let view = object_view(
             ep,
             &seen,
             region,
@@ -92,25 +87,9 @@ pub(super) fn take_calibration_views(
             &mut object.times,
         );
         ep.trail.push(planned.path);
-        object.calibration_views.push(AcquiredView {
-            viewpoint: candidate.viewpoint.pose,
-            score: candidate.score,
-            predicted: (
-                candidate.visible.unknown.len(),
-                candidate.visible.occupied.len(),
-            ),
-            joints: seen.joints,
-            sensor_pose: seen.sensor_pose,
-            frame_points: seen.frame_points,
-            cloud,
-            free_space: seen.free_space,
-            registration_cloud,
-            gain: seen.gain,
-            table: table_seen,
-            plan: planned.stats,
-            failures_before: 0,
-            new_surface: 0.0,
-        });
+        object
+            .calibration_views
+            .push(view.recorded(&candidate, &seen, planned.stats));
     }
     Ok(())
 }

@@ -3,15 +3,15 @@
 //! acquired and the grid updated, until the stop rule, the view cap, no reachable
 //! viewpoint (after one retreat) or a first view showing no object ends it.
 
-use super::acquire_and_update::{ObjectView, REGION_REACH, acquire_and_update, object_view};
+use super::acquire_and_update::{REGION_REACH, acquire_and_update, object_view};
 use super::calibration_views::take_calibration_views;
 use super::candidates::{ObjectSurface, ViewCandidates, view_candidates, viewing_centre};
 use super::episode_state::Episode;
 use super::plan_and_execute::{plan_clearing_start, retrace};
 use super::step_timer::timed;
 use super::{
-    AcquiredView, ExplorationMap, ExploreConfig, ExploreEvent, ExploreObserver, ObjectExploration,
-    ObjectRegion, ObjectStop, PipelineError, ViewFailure,
+    ExplorationMap, ExploreConfig, ExploreEvent, ExploreObserver, ObjectExploration, ObjectRegion,
+    ObjectStop, PipelineError, ViewFailure,
 };
 use crate::cloud::{PlaneFit, PointCloud};
 use crate::math::Pose;
@@ -369,12 +369,7 @@ impl<'a> ObjectLoop<'a> {
         if self.nbv.params.object_surface {
             self.grow_region(ep, object.index, &seen.frame)?;
         }
-        let ObjectView {
-            cloud,
-            registration_cloud,
-            table,
-            table_seen,
-        } = object_view(
+        let view = object_view(
             ep,
             &seen,
             &self.region,
@@ -382,7 +377,8 @@ impl<'a> ObjectLoop<'a> {
             self.nbv.params.object_surface,
             &mut object.times,
         );
-        let table = table.as_ref().or(self.table);
+        let table = view.table.as_ref().or(self.table);
+        let (cloud, registration_cloud) = (&view.cloud, &view.registration_cloud);
         ep.observer
             .event(&ExploreEvent::GridUpdated { grid: &map.grid });
         self.visited.push(candidate.viewpoint.pose);
@@ -402,7 +398,7 @@ impl<'a> ObjectLoop<'a> {
         // seen. An object lower than the smoothing's gate (a spatula) is pulled towards
         // its table, and the rule sees less of it; the earlier views are read as acquired
         // (`nbv/new_surface.rs` says what that misses).
-        let smoothed = registration_cloud.as_ref().unwrap_or(&cloud);
+        let smoothed = registration_cloud.as_ref().unwrap_or(cloud);
         // With the object's surface, the view is counted where it lies on the earlier
         // ones (its pose error moves it by a centimetre or two), above its own table
         // moved with it.
@@ -416,25 +412,10 @@ impl<'a> ObjectLoop<'a> {
         let new_surface = new_surface_share(&model, &counted, counted_table.as_ref());
         let first_points = object.views.is_empty().then_some(cloud.len());
         let gain = seen.gain;
-        object.views.push(AcquiredView {
-            viewpoint: candidate.viewpoint.pose,
-            score: candidate.score,
-            predicted: (
-                candidate.visible.unknown.len(),
-                candidate.visible.occupied.len(),
-            ),
-            joints: seen.joints,
-            sensor_pose: seen.sensor_pose,
-            frame_points: seen.frame_points,
-            cloud,
-            free_space: seen.free_space,
-            registration_cloud,
-            gain,
-            table: table_seen,
-            plan: planned.stats,
-            failures_before: self.failures_since_view,
-            new_surface,
-        });
+        let mut recorded = view.recorded(candidate, &seen, planned.stats);
+        recorded.failures_before = self.failures_since_view;
+        recorded.new_surface = new_surface;
+        object.views.push(recorded);
         self.failures_since_view = 0;
         if let Some(view) = object.views.last() {
             ep.observer.event(&ExploreEvent::ViewTaken {
