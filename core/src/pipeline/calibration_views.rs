@@ -31,8 +31,9 @@ pub fn calibration_share(wanted: usize, taken: usize, objects_after: usize) -> u
 /// Takes up to `count` views of `object` from `candidates` (a round sampled after its
 /// exploration stopped: viewpoints away from those it took), in their ranked order, into
 /// [`ObjectExploration::calibration_views`], each cut to the object's `region`. The map
-/// stays the exploration's; a candidate the arm does not reach is skipped, and a reported
-/// collision counts in the episode.
+/// stays the exploration's; a candidate the arm does not reach is skipped (after `count`
+/// of them the object takes no more: each failed plan spends the planner's whole budget),
+/// and a reported collision counts in the episode.
 pub(super) fn take_calibration_views(
     ep: &mut Episode<'_, '_>,
     candidates: ViewCandidates,
@@ -49,7 +50,8 @@ pub(super) fn take_calibration_views(
     } = candidates;
     let seed_base = config.seed ^ ((object.index as u64) << 32) ^ (1 << 31);
     let mut tries = 0u64;
-    while object.calibration_views.len() < count {
+    let mut failed = 0;
+    while object.calibration_views.len() < count && failed < count {
         let Some(candidate) = list.pop_first() else {
             break;
         };
@@ -65,6 +67,7 @@ pub(super) fn take_calibration_views(
             plan_clearing_start(&mut planner, &start, &goals, seed_base ^ tries)
         });
         let Ok(planned) = planned else {
+            failed += 1;
             continue;
         };
         match timed(&mut object.times.motion, || {
@@ -73,6 +76,7 @@ pub(super) fn take_calibration_views(
             Ok(motion) => ep.observer.event(&ExploreEvent::Moved { motion: &motion }),
             Err(RigError::Collision { .. }) => {
                 ep.collisions += 1;
+                failed += 1;
                 continue;
             }
             Err(e) => return Err(e.into()),
