@@ -13,7 +13,7 @@ use super::{
     visible_voxels_literal,
 };
 use crate::cloud::PointCloud;
-use crate::kinematics::{IkError, IkSolution, Robot};
+use crate::kinematics::{IkError, IkSolution, Joints, Robot};
 use crate::math::Pose;
 use crate::occupancy::ReducedMap;
 use crate::rig::DepthCameraSpec;
@@ -89,6 +89,14 @@ pub struct Viewpoint {
     pub pose: Pose,
     /// IK solutions of the sensor frame at `pose` (non-empty).
     pub solutions: Vec<IkSolution>,
+}
+
+impl Viewpoint {
+    /// The joint goals that reach it: its IK solutions' joints, in order (the planner's
+    /// goals).
+    pub fn goals(&self) -> Vec<Joints> {
+        self.solutions.iter().map(|s| s.joints).collect()
+    }
 }
 
 /// A viewpoint with its predicted visible set and its score.

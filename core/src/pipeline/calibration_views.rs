@@ -56,12 +56,7 @@ pub(super) fn take_calibration_views(
             break;
         };
         tries += 1;
-        let goals: Vec<_> = candidate
-            .viewpoint
-            .solutions
-            .iter()
-            .map(|s| s.joints)
-            .collect();
+        let goals = candidate.viewpoint.goals();
         let start = ep.rig.arm.joints()?;
         let planned = timed(&mut object.times.planning, || {
             plan_clearing_start(&mut planner, &start, &goals, seed_base ^ tries)

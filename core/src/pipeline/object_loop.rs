@@ -276,13 +276,7 @@ impl<'a> ObjectLoop<'a> {
             let mut plan = |candidate: &Candidate| {
                 *attempts += 1;
                 let seed = seed_base ^ *attempts;
-                let goals: Vec<_> = candidate
-                    .viewpoint
-                    .solutions
-                    .iter()
-                    .map(|s| s.joints)
-                    .collect();
-                plan_clearing_start(&mut planner, &start, &goals, seed)
+                plan_clearing_start(&mut planner, &start, &candidate.viewpoint.goals(), seed)
             };
             let next = timed(&mut object.times.planning, || {
                 if lambda > 0.0 {
