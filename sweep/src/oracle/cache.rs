@@ -1,8 +1,9 @@
 //! [`OracleCache`]: oracles kept on disk and shared by the episodes whose ceiling is the
 //! same. The oracle depends on the true world (objects and their meshes, table, obstacles,
-//! robot), the sensors, the laser sweep and its errors, the seed and Algorithm 2's sphere
-//! and rolls — not on what a sweep usually varies: the score's weights, the thresholds and
-//! stop rules, the planner, registration and the model. A sweep of k such settings on one
+//! robot), the sensors, the laser sweep and its errors, the seed, phase 1's segmentation
+//! and workcell alignment (its base) and Algorithm 2's sphere and rolls — not on what a
+//! sweep usually varies: the score's weights, the thresholds and stop rules, the map, the
+//! planner, the rest of registration and the model. A sweep of k such settings on one
 //! scene and seed computes its oracle once instead of k times (about a minute each on two
 //! cores); each episode still casts its own views ([`OracleObject::views_noise_free`]).
 //!
@@ -16,14 +17,10 @@ use super::{DensePoses, OracleReport};
 use crate::error::{Context, Result};
 
 /// The scene's top-level sections the oracle does not read.
-const IGNORED_SECTIONS: [&str; 6] = [
-    "description",
-    "mapping",
-    "segmentation",
-    "planner",
-    "registration",
-    "model",
-];
+const IGNORED_SECTIONS: [&str; 4] = ["description", "mapping", "planner", "model"];
+
+/// The `[registration]` keys the oracle reads: phase 1's workcell alignment.
+const REGISTRATION_KEYS: [&str; 1] = ["align_to_workcell"];
 
 /// The `[nbv]` keys the oracle reads: Algorithm 2's sphere and rolls.
 const NBV_KEYS: [&str; 6] = [
@@ -61,8 +58,10 @@ impl OracleCache {
             for section in IGNORED_SECTIONS {
                 map.remove(section);
             }
-            if let Some(nbv) = map.get_mut("nbv").and_then(|n| n.as_object_mut()) {
-                nbv.retain(|k, _| NBV_KEYS.contains(&k.as_str()));
+            for (section, kept) in [("nbv", &NBV_KEYS[..]), ("registration", &REGISTRATION_KEYS)] {
+                if let Some(keys) = map.get_mut(section).and_then(|n| n.as_object_mut()) {
+                    keys.retain(|k, _| kept.contains(&k.as_str()));
+                }
             }
         }
         let mut h = Fnv64::default();

@@ -10,9 +10,10 @@
 //! dropouts (same range limits, field of view and grazing cut-off: a pixel counts when the
 //! camera model's dropout probability there is below one), and its points are scored by the
 //! report's own coverage ([`crate::report::coverage`]: the same 20,000 seeded surface
-//! samples above the table, the same 1 cm). The laser sweep of phase 1, cast likewise, is
-//! the base every view adds to (the report's coverage after 0 views is the laser
-//! cluster's).
+//! samples above the table, the same 1 cm). The base every view adds to is where the
+//! exploration starts: phase 1 run in the twin as the episode runs it (the laser sweep at
+//! the scene's seed, its noise and pose errors, the cloud aligned and segmented), its
+//! object clusters — the report's coverage after 0 views.
 //!
 //! The **ceiling** is the union over all poses; the **greedy** set cover ([`CoverSets`])
 //! gives the best-known coverage after 1, 2, … views; the samples no pose sees are told
@@ -35,8 +36,7 @@ use nalgebra::Point3;
 use nbv_core::kinematics::{Joints, Robot};
 use nbv_core::math::Pose;
 use nbv_core::nbv::{NextBestView, VisitedViews};
-use nbv_core::pipeline::ExploreMode;
-use nbv_core::rig::{TruthLabel, acquire_sweep};
+use nbv_core::pipeline::{ExploreMode, NoObserver, run_phase_one};
 use nbv_scenes::Scene;
 use nbv_sim::rig::SimRig;
 use nbv_sim::sensors::CameraModel;
@@ -102,13 +102,14 @@ pub struct OracleObject {
     pub name: String,
     /// Surface samples above the table (the report's).
     pub samples: usize,
-    /// Share of the samples the laser sweep and every reachable view see together: no
+    /// Share of the samples phase 1's clusters and every reachable view see together: no
     /// exploration's coverage can exceed it.
     pub ceiling: f64,
-    /// Share the laser sweep sees (the greedy curve's start).
+    /// Share phase 1's laser clusters cover: the greedy curve's start, and the
+    /// exploration's (its coverage after 0 views).
     pub laser: f64,
-    /// Share the laser and Algorithm 2's reachable candidates see together (the scene's one
-    /// viewing sphere; below `ceiling` where it does not fit the object).
+    /// Share phase 1's clusters and Algorithm 2's reachable candidates see together (the
+    /// scene's one viewing sphere; below `ceiling` where it does not fit the object).
     pub algorithm2_ceiling: f64,
     /// Coverage after 0, 1, 2, … greedy views (`greedy[0]` = `laser`; the last =
     /// `ceiling`).
@@ -122,7 +123,7 @@ pub struct OracleObject {
     /// The unseen rest by cause (shares of the samples).
     pub unseen: UnseenCauses,
     /// Coverage after 0, 1, … of the views given in [`OracleOptions::views`], seen as the
-    /// oracle sees (laser base, no noise, no dropouts): beside the exploration's own
+    /// oracle sees (phase 1's base, no noise, no dropouts): beside the exploration's own
     /// coverage it tells what the sensor's noise and the pipeline lost from what the choice
     /// of views lost. Empty without views.
     #[serde(default)]
@@ -130,7 +131,7 @@ pub struct OracleObject {
 }
 
 impl OracleObject {
-    /// The greedy views to reach `share` of the ceiling (0 if the laser alone does).
+    /// The greedy views to reach `share` of the ceiling (0 if phase 1 alone does).
     pub fn views_to(&self, share: f64) -> usize {
         views_to(&self.greedy, share * self.ceiling)
     }
@@ -151,7 +152,7 @@ pub fn oracle(scene: &Scene, options: &OracleOptions) -> Result<OracleReport> {
     check_options(scene, options)?;
     let config = scene.explore_config(ExploreMode::Hybrid)?;
     let meshes = scene.object_meshes()?;
-    let laser = laser_points(scene, &config)?;
+    let laser = phase_one_points(scene, &config)?;
     let mut caster = Caster::new(scene, &config)?;
     let table_top = caster.table_top;
     let cache = match &options.cache {
@@ -213,8 +214,8 @@ pub fn oracle(scene: &Scene, options: &OracleOptions) -> Result<OracleReport> {
 }
 
 /// What each of `views` (camera pose, arm joints) sees of the object `name` alone, cast as
-/// the oracle casts: the coverage of the laser sweep's noise-free returns and this one view
-/// together, one entry per view (in order), beside the laser's own. `nbv views --oracle`
+/// the oracle casts: the coverage of phase 1's clusters and this one view together, one
+/// entry per view (in order), beside the clusters' own. `nbv views --oracle`
 /// ranks Algorithm 2's candidates by it to measure an objective against the truth. An
 /// error when the scene has no object `name`.
 pub fn single_view_coverage(
@@ -229,7 +230,7 @@ pub fn single_view_coverage(
         .ok_or_else(|| SweepError::Invalid(format!("{}: no object named `{name}`", scene.name)))?;
     let config = scene.explore_config(ExploreMode::Hybrid)?;
     let meshes = scene.object_meshes()?;
-    let laser = laser_points(scene, &config)?;
+    let laser = phase_one_points(scene, &config)?;
     let mut caster = Caster::new(scene, &config)?;
     let Some(samples) = SurfaceSamples::of(&meshes[i], caster.table_top, scene.seed) else {
         return Ok((0.0, vec![0.0; views.len()]));
@@ -310,8 +311,8 @@ impl Caster {
     }
 
     /// The oracle of the scene's object `i` named `name` from its surface `samples`, the
-    /// `laser`'s points, the `dense` pose set and the views an exploration `taken` (if
-    /// given); the arm is back home afterwards.
+    /// `laser` (phase 1's cluster points), the `dense` pose set and the views an exploration
+    /// `taken` (if given); the arm is back home afterwards.
     fn object_oracle(
         &mut self,
         i: usize,
@@ -446,7 +447,7 @@ impl Caster {
     }
 
     /// [`OracleObject::views_noise_free`]: the coverage of `samples` after 0, 1, … of the
-    /// views `taken`, from the laser's `covered` (`base_count` of them).
+    /// views `taken`, from phase 1's `covered` (`base_count` of them).
     fn noise_free_curve(
         &mut self,
         taken: &[(Pose, Joints)],
@@ -465,31 +466,18 @@ impl Caster {
     }
 }
 
-/// The noise-free points of phase 1's laser sweep (every return, on whatever it hit),
-/// the sweep run in the twin as the pipeline runs it.
-fn laser_points(
+/// The points of phase 1's object clusters: the laser sweep run in the twin as the episode
+/// runs it (the scene's seed draws the same noise and pose errors), aligned to the
+/// workcell and segmented — what the exploration's model starts from, before any view.
+fn phase_one_points(
     scene: &Scene,
     config: &nbv_core::pipeline::ExploreConfig,
 ) -> Result<Vec<Point3<f64>>> {
     let mut sim = SimRig::from_scene(scene).context("building the twin")?;
-    let rig = sim.rig();
-    let sweep = acquire_sweep(rig.arm, rig.scanner, &config.sweep, config.sweep_speed)
-        .context("the laser sweep")?;
-    Ok(sweep
-        .lines
-        .iter()
-        .flat_map(|line| {
-            let truth = line.truth.as_deref().unwrap_or(&[]);
-            line.ranges
-                .iter()
-                .zip(truth)
-                .filter(|(r, _)| r.is_finite())
-                .filter_map(|(_, t)| t.as_ref())
-                .filter(|t| t.label != TruthLabel::Robot)
-                .map(|t| t.point)
-                .collect::<Vec<_>>()
-        })
-        .collect())
+    let mut rig = sim.rig();
+    let (_, segmentation) = run_phase_one(&mut rig, config, &mut NoObserver)
+        .map_err(|e| SweepError::Invalid(format!("{}: phase 1: {e}", scene.name)))?;
+    Ok(segmentation.labelled_clusters().points)
 }
 
 /// The IK solutions (within the joint limits) that put the camera at `pose`.
