@@ -72,7 +72,7 @@ pub struct OracleOptions {
 pub struct OracleReport {
     /// The scene's name.
     pub scene: String,
-    /// The scene's seed (the laser sweep's pose errors and the surface samples).
+    /// The scene's seed (the laser sweep's noise and pose errors, and the surface samples).
     pub seed: u64,
     /// The dense pose set's parameters.
     pub dense: serde_json::Value,
@@ -152,7 +152,7 @@ pub fn oracle(scene: &Scene, options: &OracleOptions) -> Result<OracleReport> {
     check_options(scene, options)?;
     let config = scene.explore_config(ExploreMode::Hybrid)?;
     let meshes = scene.object_meshes()?;
-    let laser = phase_one_points(scene, &config)?;
+    let clusters = phase_one_points(scene, &config)?;
     let mut caster = Caster::new(scene, &config)?;
     let table_top = caster.table_top;
     let cache = match &options.cache {
@@ -179,7 +179,7 @@ pub fn oracle(scene: &Scene, options: &OracleOptions) -> Result<OracleReport> {
         let found = match known {
             Some(known) => {
                 let mut o = known.clone();
-                let base = samples.covered_by(&laser);
+                let base = samples.covered_by(&clusters);
                 let base_count = base.iter().filter(|&&b| b).count();
                 o.views_noise_free = match taken {
                     Some(taken) => caster.noise_free_curve(taken, &samples, base, base_count),
@@ -189,7 +189,7 @@ pub fn oracle(scene: &Scene, options: &OracleOptions) -> Result<OracleReport> {
                 o
             }
             None => {
-                caster.object_oracle(i, &object.name, &samples, &laser, &options.dense, taken)?
+                caster.object_oracle(i, &object.name, &samples, &clusters, &options.dense, taken)?
             }
         };
         objects.push(found);
@@ -230,12 +230,12 @@ pub fn single_view_coverage(
         .ok_or_else(|| SweepError::Invalid(format!("{}: no object named `{name}`", scene.name)))?;
     let config = scene.explore_config(ExploreMode::Hybrid)?;
     let meshes = scene.object_meshes()?;
-    let laser = phase_one_points(scene, &config)?;
+    let clusters = phase_one_points(scene, &config)?;
     let mut caster = Caster::new(scene, &config)?;
     let Some(samples) = SurfaceSamples::of(&meshes[i], caster.table_top, scene.seed) else {
         return Ok((0.0, vec![0.0; views.len()]));
     };
-    let base = samples.covered_by(&laser);
+    let base = samples.covered_by(&clusters);
     let n = samples.len() as f64;
     let share =
         |mask: &[bool]| mask.iter().zip(&base).filter(|&(&m, &b)| m || b).count() as f64 / n;
@@ -310,21 +310,21 @@ impl Caster {
         })
     }
 
-    /// The oracle of the scene's object `i` named `name` from its surface `samples`, the
-    /// `laser` (phase 1's cluster points), the `dense` pose set and the views an exploration
+    /// The oracle of the scene's object `i` named `name` from its surface `samples`, phase
+    /// 1's `clusters` (their points), the `dense` pose set and the views an exploration
     /// `taken` (if given); the arm is back home afterwards.
     fn object_oracle(
         &mut self,
         i: usize,
         name: &str,
         samples: &SurfaceSamples,
-        laser: &[Point3<f64>],
+        clusters: &[Point3<f64>],
         dense: &DensePoses,
         taken: Option<&[(Pose, Joints)]>,
     ) -> Result<OracleObject> {
         let table_top = self.table_top;
         let centre = samples.centre(table_top);
-        let base_mask = samples.covered_by(laser);
+        let base_mask = samples.covered_by(clusters);
         let base_covered: Vec<usize> = (0..samples.len()).filter(|&k| base_mask[k]).collect();
         let mut sets = CoverSets::new(samples.len(), &base_covered);
         let (goals, counts) = self.reachable_goals(&centre, dense)?;
