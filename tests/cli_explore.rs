@@ -454,8 +454,8 @@ fn after_a_stall_the_hull_takes_what_eq_4_leaves() {
 
 /// `registration.calibration_views`: an episode that explores with fewer views than the
 /// self-calibration reads takes more of the object's candidate viewpoints for it. The
-/// calibration's views join the registration and the hand-eye estimate, not the
-/// exploration: its views are the same as without them.
+/// calibration's views join the registration and the hand-eye estimate, not the fused
+/// surface or the exploration: its views are the same as without them.
 #[test]
 fn the_calibration_takes_the_views_it_lacks_after_the_exploration() {
     let dir = tempfile::tempdir().unwrap();
@@ -505,6 +505,14 @@ fn the_calibration_takes_the_views_it_lacks_after_the_exploration() {
     );
     assert_eq!(plain["hand_eye"]["estimate"]["views"], views);
     assert_eq!(more["hand_eye"]["estimate"]["views"], 12);
+    // The fused surface reads the exploration's frames alone (`rgbd/depth`).
+    let frames = |wanted: &str| {
+        let name = a["name"].as_str().unwrap();
+        let depth = dir.path().join(wanted).join("objects").join(name);
+        let depth = depth.join("rgbd/depth");
+        std::fs::read_dir(&depth).map(Iterator::count).unwrap_or(0)
+    };
+    assert_eq!((frames("0"), frames("12")), (views, views));
     // More standstill errors averaged: the estimate's own σ shrinks.
     let sigma = |r: &Value| f(&r["hand_eye"]["estimate"]["sigma"][1]);
     assert!(
