@@ -333,16 +333,14 @@ fn bad_objective_and_cost_weight() {
         let scene = check(&with(&format!("objective = \"{}\"", o.name()))).unwrap();
         assert_eq!(scene.nbv.objective, o);
     }
-    // When the hull scores: three names; a bool is a parse error naming them.
+    // When the hull scores: four names; a bool is a parse error naming them.
     use nbv_core::nbv::HullScore;
-    assert_eq!(
-        check(&env1()).unwrap().nbv.hull_score,
-        HullScore::AfterStall
-    );
+    assert_eq!(check(&env1()).unwrap().nbv.hull_score, HullScore::First);
     for (name, mode) in [
         ("off", HullScore::Off),
         ("after-stall", HullScore::AfterStall),
         ("always", HullScore::Always),
+        ("first", HullScore::First),
     ] {
         let scene = check(&with(&format!("hull_score = \"{name}\""))).unwrap();
         assert_eq!(scene.nbv.hull_score, mode);

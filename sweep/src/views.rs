@@ -170,6 +170,7 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
                 points: &cloud.points,
                 free_space: &[],
                 stalled: false,
+                hull: nbv.params.hull_score.applies(false),
             }),
         )?;
         let mut rows = Vec::new();

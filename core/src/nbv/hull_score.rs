@@ -16,7 +16,11 @@ use serde::{Deserialize, Serialize};
 /// hull mode, after a stall the candidates come from the sphere at half its steps
 /// ([`ViewSphere::refined`](super::ViewSphere::refined)): what is left is a strip the
 /// coarse sphere sees only past the grazing cut (docs/exploration.md, "Scoring the unseen
-/// hull").
+/// hull"). `First` ranks by the hull from the first view and, when the hull's stop would
+/// end the object, hands it to eq. (4) for what a convex hull cannot hold (a horse's belly
+/// between its legs, a handle's inside) if the object's latest view still added surface:
+/// eq. (4) keeps the object while its views add surface, and one view that adds less than
+/// the new-surface share ends it ([`HullScore::hands_over`]).
 ///
 /// ```
 /// use nbv_core::nbv::HullScore;
@@ -24,6 +28,8 @@ use serde::{Deserialize, Serialize};
 /// assert!(!HullScore::AfterStall.applies(false));
 /// assert!(HullScore::AfterStall.applies(true));
 /// assert!(HullScore::Always.applies(false));
+/// assert!(HullScore::First.applies(false) && HullScore::First.hands_over());
+/// assert!(!HullScore::Always.hands_over());
 /// assert_eq!("after-stall".parse::<HullScore>(), Ok(HullScore::AfterStall));
 /// assert!("true".parse::<HullScore>().is_err());
 /// ```
@@ -38,6 +44,9 @@ pub enum HullScore {
     AfterStall,
     /// The hull from the first view on.
     Always,
+    /// The hull from the first view on, then eq. (4) once the hull's stop would end the
+    /// object.
+    First,
 }
 
 impl HullScore {
@@ -47,8 +56,13 @@ impl HullScore {
         match self {
             Self::Off => false,
             Self::AfterStall => stalled,
-            Self::Always => true,
+            Self::Always | Self::First => true,
         }
+    }
+
+    /// Whether eq. (4) takes the object over when the hull's stop would end it.
+    pub fn hands_over(self) -> bool {
+        self == Self::First
     }
 }
 
@@ -60,13 +74,14 @@ impl std::str::FromStr for HullScore {
             "off" => Ok(Self::Off),
             "after-stall" => Ok(Self::AfterStall),
             "always" => Ok(Self::Always),
+            "first" => Ok(Self::First),
             _ => Err(format!("{s:?} is not {NAMES}")),
         }
     }
 }
 
 /// The names a scene may give.
-const NAMES: &str = r#""off", "after-stall" or "always""#;
+const NAMES: &str = r#""off", "after-stall", "always" or "first""#;
 
 /// From its name; any other value (a bool included) is an error that lists the names.
 impl<'de> Deserialize<'de> for HullScore {

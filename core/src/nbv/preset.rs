@@ -63,8 +63,9 @@ impl NbvPreset {
     /// Dinast pixel in u and v (1200 rays; the paper does not say how D was subsampled),
     /// four rolls about the optical axis (eq. (3)'s first), eq. (4) ranking, and — twin
     /// only — eq. (4) counting the object's surface, the unseen hull ranking an object's
-    /// candidates once a view of it added nothing, and the unknown space above the objects
-    /// free for the planner.
+    /// candidates from its first view and eq. (4) taking it over where the hull sees nothing
+    /// left ([`HullScore::First`]), and the unknown space above the objects free for the
+    /// planner.
     pub fn params(self) -> NbvParams {
         NbvParams {
             sphere: self.sphere(),
@@ -77,7 +78,7 @@ impl NbvPreset {
             object_surface: self == Self::Twin,
             hull_score: match self {
                 Self::Paper => HullScore::Off,
-                Self::Twin => HullScore::AfterStall,
+                Self::Twin => HullScore::First,
             },
             free_above_objects: self == Self::Twin,
         }

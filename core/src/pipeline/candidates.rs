@@ -63,9 +63,7 @@ pub fn view_candidates(
     // The hull's mode for this round; after a stall in it the candidates come from the
     // sphere at half its steps: what is left is a strip or a patch the coarse sphere's
     // views see only past the grazing cut.
-    let hull_mode = surface
-        .as_ref()
-        .is_some_and(|s| nbv.params.hull_score.applies(s.stalled));
+    let hull_mode = surface.as_ref().is_some_and(|s| s.hull);
     let refined;
     let nbv = if hull_mode && surface.as_ref().is_some_and(|s| s.stalled) {
         let mut finer = nbv.clone();
@@ -138,6 +136,10 @@ pub struct ObjectSurface<'a> {
     ///
     /// [`ViewSphere::refined`]: crate::nbv::ViewSphere::refined
     pub stalled: bool,
+    /// The unseen hull scores this round's candidates (by
+    /// [`NbvParams::hull_score`](crate::nbv::NbvParams::hull_score) and whether the hull
+    /// handed the object to eq. (4) already).
+    pub hull: bool,
 }
 
 /// Eq. (4) over the object's surface: of the candidate's O_v, only the voxels in the

@@ -37,11 +37,14 @@ pub(super) fn explore_object(
 ) -> Result<(), PipelineError> {
     let mut state = ObjectLoop::new(ep.config, nbv, map, region, table, object)?;
     object.stop = loop {
-        if let Some(stop) = stop_before_sampling(ep.config, object) {
+        if let Some(stop) = stop_before_sampling(ep.config, object, state.handed_over) {
             break stop;
         }
         let candidates = state.sample(ep, map, object)?;
         if let Some(stop) = state.stop_on_candidates(ep.config, &candidates) {
+            if state.hand_over(&stop, object, ep.config.stop.new_surface) {
+                continue;
+            }
             break stop;
         }
         match state.take_view(ep, map, object, candidates)? {
@@ -77,12 +80,28 @@ enum Round {
 }
 
 /// The stops checked before sampling: the view cap, and the rule on the new surface each
-/// view added.
-fn stop_before_sampling(config: &ExploreConfig, object: &ObjectExploration) -> Option<ObjectStop> {
+/// view added; once the hull `handed_over` the object to eq. (4) after that many views
+/// ([`HullScore::First`](crate::nbv::HullScore::First)), one view of eq. (4)'s that adds
+/// less than the new-surface share ends it.
+fn stop_before_sampling(
+    config: &ExploreConfig,
+    object: &ObjectExploration,
+    handed_over: Option<usize>,
+) -> Option<ObjectStop> {
     if object.views.len() >= config.max_views_per_object {
         return Some(ObjectStop::MaxViews);
     }
     let shares: Vec<f64> = object.views.iter().map(|v| v.new_surface).collect();
+    if let Some(n) = handed_over
+        && let Some(&share) = shares.get(n..).and_then(<[f64]>::last)
+        && share < config.stop.new_surface
+    {
+        return Some(ObjectStop::Rule(StopReason::NoNewSurface {
+            share,
+            threshold: config.stop.new_surface,
+            views: 1,
+        }));
+    }
     config.stop.check_new_surface(&shares).map(ObjectStop::Rule)
 }
 
@@ -113,6 +132,9 @@ struct ObjectLoop<'a> {
     attempts: u64,
     /// Whether the arm has retreated since the latest view (once, then the object stops).
     retreated: bool,
+    /// The views taken when the hull's stop handed the object to eq. (4)
+    /// ([`HullScore::First`](crate::nbv::HullScore::First)); `None` while the hull ranks.
+    handed_over: Option<usize>,
 }
 
 impl<'a> ObjectLoop<'a> {
@@ -137,7 +159,35 @@ impl<'a> ObjectLoop<'a> {
             failures_since_view: 0,
             attempts: 0,
             retreated: false,
+            handed_over: None,
         })
+    }
+
+    /// Whether `stop` is the hull's stop and, by the hull score, eq. (4) takes the object
+    /// over: once, and only while the object's latest view still added at least the
+    /// `new_surface` share (after one that added less the object is done). The relative
+    /// stop then starts again from eq. (4)'s first round.
+    fn hand_over(
+        &mut self,
+        stop: &ObjectStop,
+        object: &ObjectExploration,
+        new_surface: f64,
+    ) -> bool {
+        let hull_stop = matches!(stop, ObjectStop::Rule(StopReason::NoUnseenHull { .. }));
+        let adding = object
+            .views
+            .last()
+            .is_some_and(|v| v.new_surface >= new_surface);
+        if !(hull_stop
+            && adding
+            && self.nbv.params.hull_score.hands_over()
+            && self.handed_over.is_none())
+        {
+            return false;
+        }
+        self.handed_over = Some(object.views.len());
+        self.first_best = None;
+        true
     }
 
     /// The round's candidates around what is seen of the object (timed as the NBV step),
@@ -158,7 +208,7 @@ impl<'a> ObjectLoop<'a> {
                 .views
                 .iter()
                 .any(|v| v.new_surface < ep.config.stop.new_surface);
-            let hull = self.nbv.params.hull_score.applies(stalled);
+            let hull = self.nbv.params.hull_score.applies(stalled) && self.handed_over.is_none();
             // What the hull score reads: everything seen of the object, and where its
             // views saw through.
             let (points, free_space): (Vec<_>, Vec<_>) = if hull {
@@ -196,6 +246,7 @@ impl<'a> ObjectLoop<'a> {
                     points: &points,
                     free_space: &free_space,
                     stalled,
+                    hull,
                 }),
             )
         })?;

@@ -109,9 +109,10 @@ pub struct Nbv {
     /// convex hull (its points and their footprint on the table) it would see, facing it,
     /// at the camera's return for the incidence, not hidden by another object
     /// ([`HullSurface`](nbv_core::nbv::HullSurface)), in place of eq. (4)'s voxel count:
-    /// `"off"`, `"after-stall"` (once a view of the object added less than `new_surface`)
-    /// or `"always"` ([`HullScore`]). Twin `"after-stall"`, paper `"off"`
-    /// (docs/exploration.md, "Scoring the unseen hull").
+    /// `"off"`, `"after-stall"` (once a view of the object added less than `new_surface`),
+    /// `"always"`, or `"first"` (always, and eq. (4) takes the object over when the hull's
+    /// stop would end it while its latest view still added surface) ([`HullScore`]). Twin
+    /// `"first"`, paper `"off"` (docs/exploration.md, "Scoring the unseen hull").
     pub hull_score: HullScore,
     /// The planner takes the unknown space above every object phase 1 found (above the
     /// highest top of their regions) as free, not as an obstacle: the objects stand on the
