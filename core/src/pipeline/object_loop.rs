@@ -312,6 +312,10 @@ impl<'a> ObjectLoop<'a> {
             mut list,
             ..
         } = candidates;
+        // The way the arm came in is free: it moved through it.
+        if let Some(way_in) = ep.trail.last() {
+            planner.clear_way(&way_in.waypoints);
+        }
         // The movement cost's normaliser Σc, fixed for the round (see `lazy_best`).
         let lambda = self.nbv.params.cost_weight;
         let total_cost = if lambda > 0.0 {

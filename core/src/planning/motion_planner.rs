@@ -24,6 +24,9 @@ pub struct PlanStats {
     pub iterations: usize,
     /// Nodes in both trees (start and goal roots included).
     pub nodes: usize,
+    /// Nodes in the start's tree (its root included): few against the goals' trees is an
+    /// arm boxed in where it stands.
+    pub start_nodes: usize,
     /// Configurations checked for collision (goals, edges, shortcuts).
     pub collision_checks: usize,
     /// Joint-space length (rad) of the path the trees produced.
@@ -221,6 +224,7 @@ impl Query<'_> {
             a_is_start = !a_is_start;
         }
         stats.nodes = start_tree.nodes.len() + goal_tree.nodes.len();
+        stats.start_nodes = start_tree.nodes.len();
         found
     }
 }
@@ -329,6 +333,32 @@ impl MotionPlanner {
             && path.windows(2).all(|w| q.segment_free(&w[0], &w[1]))
     }
 
+    /// Drops from the world the map voxels the robot touches along `path`, a path it has
+    /// executed (checked at the edge resolution): it moved through them, so they are free,
+    /// whatever the views since have made of them. Returns how many were dropped.
+    ///
+    /// A view taken close to the object can add voxels around the arm that stood
+    /// there (its own crust of unknown space, a noisy return); without this the arm
+    /// can be boxed in where it stands, every step out of it blocked.
+    pub fn clear_way(&mut self, path: &[Joints]) -> usize {
+        let mut touched: Vec<usize> = path
+            .first()
+            .map(|q| self.world.colliding_voxels(q))
+            .unwrap_or_default();
+        for w in path.windows(2) {
+            let n = self
+                .bound
+                .steps(&w[0], &w[1], self.config.max_link_displacement);
+            for i in 1..=n {
+                let q = w[0] + (w[1] - w[0]) * (i as f64 / n as f64);
+                touched.extend(self.world.colliding_voxels(&q));
+            }
+        }
+        touched.sort_unstable();
+        touched.dedup();
+        self.world.ignore_voxels(&touched)
+    }
+
     fn query(&self, around: &[Joints]) -> Query<'_> {
         let limits = self.world.robot().limits();
         let mut lower = Joints::from_fn(|k, _| limits[k].lower);
@@ -381,6 +411,7 @@ impl MotionPlanner {
         let found = match query.direct_segment(start, &usable) {
             Some(found) => {
                 stats.nodes = 1 + usable.len();
+                stats.start_nodes = 1;
                 Some(found)
             }
             None => query.rrt_connect(start, &usable, &mut rng, &mut stats),
@@ -389,6 +420,7 @@ impl MotionPlanner {
             return Err(PlanningError::BudgetExhausted {
                 iterations: stats.iterations,
                 nodes: stats.nodes,
+                start_nodes: stats.start_nodes,
             });
         };
         dedup(&mut path);
@@ -559,6 +591,39 @@ mod tests {
         }
     }
 
+    /// The arm stood in occupied voxels all along a path it executed: once the way is
+    /// cleared, the path and the way back are free, and the voxels off it stay.
+    #[test]
+    fn clearing_the_way_in_frees_it_and_nothing_else() {
+        use crate::occupancy::{GridGeometry, OccupancyGrid, OccupancyParams, ReducedMap};
+        use nalgebra::Point3;
+        let g = GridGeometry::new(
+            Point3::new(0.6, -0.4, 0.9),
+            Point3::new(1.4, 0.4, 1.5),
+            0.02,
+        )
+        .unwrap();
+        let grid = OccupancyGrid::from_log_odds(g, OccupancyParams::default(), vec![1.0; g.len()])
+            .unwrap();
+        let world = CollisionWorld::new(&robot(), &[])
+            .unwrap()
+            .with_reduced_map(&ReducedMap::from_grid(&grid));
+        let mut planner = MotionPlanner::new(world, PlannerConfig::default()).unwrap();
+        let before = planner.world().voxel_count();
+        let (a, b, off) = (arm_at(0.0), arm_at(0.15), arm_at(-0.15));
+        assert!(!planner.path_is_free(&[a, b]));
+        let dropped = planner.clear_way(&[a, b]);
+        assert!(dropped > 0);
+        assert_eq!(planner.world().voxel_count(), before - dropped);
+        assert!(planner.path_is_free(&[a, b]) && planner.path_is_free(&[b, a]));
+        assert!(
+            planner.world().in_collision(&off),
+            "voxels off the way stay"
+        );
+        // Cleared twice: nothing more to drop.
+        assert_eq!(planner.clear_way(&[a, b]), 0);
+    }
+
     #[test]
     fn budget_of_one_iteration_fails_typed() {
         let planner = panel_planner(PlannerConfig {
@@ -566,9 +631,14 @@ mod tests {
             ..PlannerConfig::default()
         });
         match planner.plan(&arm_at(-1.0), &[arm_at(1.0)], 3) {
-            Err(PlanningError::BudgetExhausted { iterations, nodes }) => {
+            Err(PlanningError::BudgetExhausted {
+                iterations,
+                nodes,
+                start_nodes,
+            }) => {
                 assert_eq!(iterations, 1);
                 assert!(nodes >= 2);
+                assert!((1..nodes).contains(&start_nodes));
             }
             other => panic!("{other:?}"),
         }

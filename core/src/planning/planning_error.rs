@@ -54,12 +54,16 @@ pub enum PlanningError {
         first: Option<Collision>,
     },
     /// The iteration budget ran out before the trees connected.
-    #[error("no path found within {iterations} iterations ({nodes} nodes)")]
+    #[error(
+        "no path found within {iterations} iterations ({nodes} nodes, {start_nodes} of them from the start)"
+    )]
     BudgetExhausted {
         /// Iterations run.
         iterations: usize,
         /// Nodes in both trees.
         nodes: usize,
+        /// Nodes in the start's tree.
+        start_nodes: usize,
     },
     /// The goal pose has no IK solution (see [`MotionPlanner::plan_to_pose`](super::MotionPlanner::plan_to_pose)).
     #[error("goal pose: {0}")]
