@@ -6,8 +6,9 @@ mod common;
 use nbv_core::nbv::{NbvParams, NbvPreset, StopRule, VisitedViews};
 use nbv_core::perception::SegmentationParams;
 use nbv_core::pipeline::{ExploreMode, ObjectRegion};
+use nbv_core::planning::PlannerConfig;
 use nbv_core::registration::RegistrationParams;
-use nbv_scenes::schema::{Nbv, Registration, Segmentation};
+use nbv_scenes::schema::{Nbv, Planner, Registration, Segmentation};
 
 #[test]
 fn the_nbv_presets_are_cores() {
@@ -29,6 +30,18 @@ fn the_nbv_presets_are_cores() {
         (paper.dtheta_deg, paper.dphi_deg, paper.theta_max_deg),
         (15.0, 30.0, 75.0)
     );
+}
+
+#[test]
+fn planner_defaults_are_cores() {
+    let core = PlannerConfig::default();
+    let scene = Planner::default();
+    assert_eq!(scene.max_iterations as usize, core.max_iterations);
+    assert_eq!(scene.step_rad, core.step);
+    assert_eq!(scene.shortcut_iterations as usize, core.shortcut_iterations);
+    // paper-env1 writes its [planner] out: the same values.
+    let env1 = common::builtin_with_fixture("paper-env1").unwrap();
+    assert_eq!(env1.planner, scene);
 }
 
 #[test]

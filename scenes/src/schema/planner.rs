@@ -2,15 +2,17 @@
 
 use super::Check;
 use crate::error::SceneError;
+use nbv_core::planning::PlannerConfig;
 use serde::{Deserialize, Serialize};
 
-/// BiRRT parameters (OpenRAVE's defaults of the paper's era).
+/// RRT-Connect's parameters; a key left out takes nbv-core's [`PlannerConfig`] default.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Planner {
-    /// Iterations per planning try. Default 4000.
+    /// Iterations per planning try. Default 4000 (OpenRAVE's BiRRT budget).
     pub max_iterations: u32,
-    /// Extension step in joint space (rad, max-norm). Default 0.04.
+    /// Extension step in joint space (rad, Euclidean norm). Default 0.2 (see
+    /// [`PlannerConfig`]).
     pub step_rad: f64,
     /// Collision-check spacing along an edge (rad). Default 0.02.
     pub edge_check_rad: f64,
@@ -24,11 +26,12 @@ pub struct Planner {
 
 impl Default for Planner {
     fn default() -> Self {
+        let core = PlannerConfig::default();
         Self {
-            max_iterations: 4000,
-            step_rad: 0.04,
+            max_iterations: core.max_iterations as u32,
+            step_rad: core.step,
             edge_check_rad: 0.02,
-            shortcut_iterations: 50,
+            shortcut_iterations: core.shortcut_iterations as u32,
             goal_bias: 0.05,
             tries: 3,
         }
