@@ -14,13 +14,16 @@ pub struct Planner {
     /// Extension step in joint space (rad, Euclidean norm). Default 0.2 (see
     /// [`PlannerConfig`]).
     pub step_rad: f64,
-    /// Collision-check spacing along an edge (rad). Default 0.02.
+    /// Accepted and not read: edges are checked every half voxel of any robot point's
+    /// motion. Default 0.02.
     pub edge_check_rad: f64,
     /// Random shortcut attempts on a found path. Default 50.
     pub shortcut_iterations: u32,
-    /// Probability of extending towards the goal. Default 0.05.
+    /// Accepted and not read: RRT-Connect grows a tree from each end towards the other.
+    /// Default 0.05.
     pub goal_bias: f64,
-    /// Tries per query before giving up. Default 3.
+    /// Accepted and not read: a viewpoint whose plan fails gives way to the next
+    /// candidate. Default 3.
     pub tries: u32,
 }
 
