@@ -340,6 +340,25 @@ impl MotionPlanner {
     /// A view taken close to the object can add voxels around the arm that stood
     /// there (its own crust of unknown space, a noisy return); without this the arm
     /// can be boxed in where it stands, every step out of it blocked.
+    ///
+    /// ```
+    /// use nalgebra::Point3;
+    /// use nbv_core::kinematics::{Joints, comau_smart_six};
+    /// use nbv_core::occupancy::{GridGeometry, OccupancyGrid, OccupancyParams, ReducedMap};
+    /// use nbv_core::planning::{CollisionWorld, MotionPlanner, PlannerConfig};
+    /// // Every voxel in front of the arm occupied, as a view's crust can leave it.
+    /// let g = GridGeometry::new(Point3::new(0.6, -0.4, 0.9), Point3::new(1.4, 0.4, 1.5), 0.02)?;
+    /// let grid = OccupancyGrid::from_log_odds(g, OccupancyParams::default(), vec![1.0; g.len()])?;
+    /// let world = CollisionWorld::new(&comau_smart_six()?, &[])?
+    ///     .with_reduced_map(&ReducedMap::from_grid(&grid));
+    /// let mut planner = MotionPlanner::new(world, PlannerConfig::default())?;
+    /// let swing = |j1| Joints::new(j1, 0.0, -std::f64::consts::FRAC_PI_2, 0.0, 0.0, 0.0);
+    /// let way_in = [swing(0.0), swing(0.15)];
+    /// assert!(!planner.path_is_free(&way_in));
+    /// assert!(planner.clear_way(&way_in) > 0);
+    /// assert!(planner.path_is_free(&way_in));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn clear_way(&mut self, path: &[Joints]) -> usize {
         let mut touched: Vec<usize> = path
             .first()
