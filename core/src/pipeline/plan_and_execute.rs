@@ -19,8 +19,7 @@ pub fn plan_clearing_start(
 ) -> Result<PlannedPath, PlanningError> {
     match planner.plan(start, goals, seed) {
         Err(PlanningError::StartInCollision(c)) if c.is_voxel() => {
-            let voxels = planner.world().colliding_voxels(start);
-            planner.world_mut().ignore_voxels(&voxels);
+            planner.clear_way(std::slice::from_ref(start));
             planner.plan(start, goals, seed)
         }
         other => other,
