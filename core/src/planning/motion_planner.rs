@@ -237,13 +237,8 @@ impl Query<'_> {
 
     /// Whether the segment a → b is free, `a` assumed free.
     fn segment_free(&self, a: &Joints, b: &Joints) -> bool {
-        let n = self
-            .planner
-            .bound
-            .steps(a, b, self.planner.config.max_link_displacement);
-        bisection_order(n)
-            .into_iter()
-            .all(|i| self.free(&(a + (b - a) * (i as f64 / n as f64))))
+        let (n, at) = self.planner.edge_steps(a, b);
+        bisection_order(n).into_iter().all(|i| self.free(&at(i)))
     }
 
     fn sample(&self, rng: &mut ChaCha8Rng) -> Joints {
@@ -365,17 +360,23 @@ impl MotionPlanner {
             .map(|q| self.world.colliding_voxels(q))
             .unwrap_or_default();
         for w in path.windows(2) {
-            let n = self
-                .bound
-                .steps(&w[0], &w[1], self.config.max_link_displacement);
+            let (n, at) = self.edge_steps(&w[0], &w[1]);
             for i in 1..=n {
-                let q = w[0] + (w[1] - w[0]) * (i as f64 / n as f64);
-                touched.extend(self.world.colliding_voxels(&q));
+                touched.extend(self.world.colliding_voxels(&at(i)));
             }
         }
         touched.sort_unstable();
         touched.dedup();
         self.world.ignore_voxels(&touched)
+    }
+
+    /// The configurations an edge `a → b` is checked at: `n` equal steps, none moving a
+    /// link point more than `max_link_displacement`, and the configuration after step
+    /// `i` (`1..=n`; `n` is `b`).
+    fn edge_steps(&self, a: &Joints, b: &Joints) -> (usize, impl Fn(usize) -> Joints) {
+        let n = self.bound.steps(a, b, self.config.max_link_displacement);
+        let (a, d) = (*a, b - a);
+        (n, move |i| a + d * (i as f64 / n as f64))
     }
 
     fn query(&self, around: &[Joints]) -> Query<'_> {
