@@ -20,7 +20,7 @@
 //! assert_eq!(scene.workspace.dims(), [60, 70, 30]);
 //! assert!(scene.obstacles.iter().all(|o| o.known));
 //! assert_eq!(scene.nbv.radius, 0.45); // tuned for the twin (the paper's 0.3 is the default)
-//! assert_eq!(scene.planner.tries, 3); // a default: env2 has no [planner] section
+//! assert_eq!(scene.planner.max_iterations, 4000); // a default: env2 has no [planner] section
 //! ```
 
 pub mod builtin;

@@ -6,6 +6,9 @@ use nbv_core::planning::PlannerConfig;
 use serde::{Deserialize, Serialize};
 
 /// RRT-Connect's parameters; a key left out takes nbv-core's [`PlannerConfig`] default.
+/// There is no goal bias (RRT-Connect grows a tree from each end towards the other), no
+/// edge step (edges are checked every half voxel of any robot point's motion) and no
+/// retry count (a viewpoint whose plan fails gives way to the next candidate).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Planner {
@@ -14,17 +17,8 @@ pub struct Planner {
     /// Extension step in joint space (rad, Euclidean norm). Default 0.2 (see
     /// [`PlannerConfig`]).
     pub step_rad: f64,
-    /// Accepted and not read: edges are checked every half voxel of any robot point's
-    /// motion. Default 0.02.
-    pub edge_check_rad: f64,
     /// Random shortcut attempts on a found path. Default 50.
     pub shortcut_iterations: u32,
-    /// Accepted and not read: RRT-Connect grows a tree from each end towards the other.
-    /// Default 0.05.
-    pub goal_bias: f64,
-    /// Accepted and not read: a viewpoint whose plan fails gives way to the next
-    /// candidate. Default 3.
-    pub tries: u32,
 }
 
 impl Default for Planner {
@@ -33,10 +27,7 @@ impl Default for Planner {
         Self {
             max_iterations: core.max_iterations as u32,
             step_rad: core.step,
-            edge_check_rad: 0.02,
             shortcut_iterations: core.shortcut_iterations as u32,
-            goal_bias: 0.05,
-            tries: 3,
         }
     }
 }
@@ -46,15 +37,6 @@ impl Planner {
     pub(crate) fn check(&self, c: &Check) -> Result<(), SceneError> {
         c.at_least("planner.max_iterations", self.max_iterations.into(), 1)?;
         c.within("planner.step_rad", self.step_rad, 1e-6, 3.15, "(0, π] rad")?;
-        c.within(
-            "planner.edge_check_rad",
-            self.edge_check_rad,
-            1e-6,
-            3.15,
-            "(0, π] rad",
-        )?;
-        c.within("planner.goal_bias", self.goal_bias, 0.0, 1.0, "[0, 1]")?;
-        c.at_least("planner.tries", self.tries.into(), 1)?;
         Ok(())
     }
 }
