@@ -116,8 +116,16 @@ impl TableFilter {
     /// keeps, and those it explains by the table that stand in the footprint of the
     /// former. A cloud without ray origins is returned whole.
     pub fn remove(&self, plane: &PlaneFit, cloud: &PointCloud) -> PointCloud {
+        let keep = self.kept(plane, cloud);
+        cloud.retain_indices(|i| keep[i])
+    }
+
+    /// Which points of `cloud` [`remove`](Self::remove) keeps, in cloud order (all of
+    /// them without ray origins): for deciding on one cloud (a view smoothed) and cutting
+    /// another of the same pixels (the view as acquired).
+    pub fn kept(&self, plane: &PlaneFit, cloud: &PointCloud) -> Vec<bool> {
         let Some(origins) = cloud.origins.as_deref() else {
-            return cloud.clone();
+            return vec![true; cloud.len()];
         };
         let tests: Vec<(bool, f64)> = (0..cloud.len())
             .map(|i| self.ray_test(plane, &origins[i], &cloud.points[i]))
@@ -154,7 +162,7 @@ impl TableFilter {
                 keep[i] = near;
             }
         }
-        cloud.retain_indices(|i| keep[i])
+        keep
     }
 }
 
