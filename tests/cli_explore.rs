@@ -481,8 +481,8 @@ fn the_calibration_takes_the_views_it_lacks_after_the_exploration() {
     let views = a["views"].as_array().unwrap().len();
     assert!(views < 12, "{views} views already");
     assert_eq!(a["views"], b["views"], "the exploration's views changed");
-    // The coverage by view is read at the registered poses, which the added views move
-    // by a little.
+    // The coverage by view is read at the registered poses, which the added views move:
+    // a better calibration, and no view's coverage lower by more than a point.
     let curve = |o: &Value| -> Vec<f64> {
         o["coverage_by_view"]
             .as_array()
@@ -494,7 +494,7 @@ fn the_calibration_takes_the_views_it_lacks_after_the_exploration() {
     let (ca, cb) = (curve(a), curve(b));
     assert_eq!(ca.len(), views + 1);
     assert!(
-        ca.iter().zip(&cb).all(|(x, y)| (x - y).abs() < 0.01),
+        ca.iter().zip(&cb).all(|(x, y)| *y > x - 0.01),
         "{ca:?} {cb:?}"
     );
     let extra = b["calibration_views"].as_u64().unwrap() as usize;

@@ -169,6 +169,7 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
                 missed: &nbv_core::nbv::MissedVoxels::default(),
                 points: &cloud.points,
                 free_space: &[],
+                views: &[],
                 stalled: false,
                 hull: nbv.params.hull_score.applies(false),
             }),

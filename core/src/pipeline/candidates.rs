@@ -6,6 +6,7 @@
 use super::{AcquiredView, ExplorationMap, ExploreConfig, ObjectRegion, PipelineError};
 use crate::cloud::PointCloud;
 use crate::kinematics::{IkSolution, Joints, Robot};
+use crate::math::Pose;
 use crate::nbv::{
     Candidate, HullSurface, MissedVoxels, NextBestView, Objective, ScoreWeights, SurfaceSides,
     ViewpointList, VisitedViews, apply_movement_cost, sort_best_first,
@@ -91,7 +92,10 @@ pub fn view_candidates(
         let hull = (hull_mode && !flat)
             .then(|| HullSurface::new(surface.points, region.table, &map.grid))
             .flatten()
-            .map(|h| h.without_seen_through(|q| surface.free_space.iter().any(|f| f.contains(q))));
+            .map(|h| {
+                h.without_seen_through(|q| surface.free_space.iter().any(|f| f.contains(q)))
+                    .without_missed(surface.views, &nbv.camera, scored_on)
+            });
         hull_area = hull.as_ref().map(HullSurface::total_area);
         let own = |v: usize| in_region(geometry, surface.region, v);
         for c in &mut list.candidates {
@@ -129,6 +133,8 @@ pub struct ObjectSurface<'a> {
     pub points: &'a [Point3<f64>],
     /// Where its views saw empty space.
     pub free_space: &'a [DepthImageFreeSpace],
+    /// Where its views stood (the sensor's reported poses).
+    pub views: &'a [Pose],
     /// A view of the object added less than the new-surface share: by
     /// [`NbvParams::hull_score`](crate::nbv::NbvParams::hull_score), the unseen hull
     /// ([`HullSurface`]) scores the candidates, and in a hull mode they come from the

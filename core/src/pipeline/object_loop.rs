@@ -209,9 +209,9 @@ impl<'a> ObjectLoop<'a> {
                 .iter()
                 .any(|v| v.new_surface < ep.config.stop.new_surface);
             let hull = self.nbv.params.hull_score.applies(stalled) && self.handed_over.is_none();
-            // What the hull score reads: everything seen of the object, and where its
-            // views saw through.
-            let (points, free_space): (Vec<_>, Vec<_>) = if hull {
+            // What the hull score reads: everything seen of the object, where its views
+            // saw through, and where they stood.
+            let (points, free_space, poses): (Vec<_>, Vec<_>, Vec<_>) = if hull {
                 (
                     object
                         .cluster
@@ -221,9 +221,10 @@ impl<'a> ObjectLoop<'a> {
                         .copied()
                         .collect(),
                     object.views.iter().map(|v| v.free_space.clone()).collect(),
+                    object.views.iter().map(|v| v.sensor_pose).collect(),
                 )
             } else {
-                (Vec::new(), Vec::new())
+                (Vec::new(), Vec::new(), Vec::new())
             };
             // The arm's joints only when the movement cost reads them (a device round trip).
             let start = if self.nbv.params.cost_weight > 0.0 {
@@ -245,6 +246,7 @@ impl<'a> ObjectLoop<'a> {
                     missed: &self.missed,
                     points: &points,
                     free_space: &free_space,
+                    views: &poses,
                     stalled,
                     hull,
                 }),
