@@ -54,8 +54,10 @@ pub struct NbvParams {
     /// Eq. (4) counts the object's surface ([`view_candidates`]): only the voxels of
     /// the object being explored (in its region), an occupied voxel seen from a side no
     /// view has seen it from as new ([`SurfaceSides`](super::SurfaceSides)), an unknown
-    /// voxel a taken view missed no more ([`MissedVoxels`](super::MissedVoxels)); false
-    /// (default): every voxel of M̄ the rays reach, as printed.
+    /// voxel a taken view missed no more ([`MissedVoxels`](super::MissedVoxels)); and each
+    /// view's object points are cut at the table that view sees, told from the object on
+    /// its smoothed depths. False (default): every voxel of M̄ the rays reach, as printed,
+    /// and the views cut at phase 1's table on their averaged depths.
     ///
     /// [`view_candidates`]: crate::pipeline::view_candidates
     pub object_surface: bool,
