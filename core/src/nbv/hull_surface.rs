@@ -10,7 +10,9 @@
 //! the contact out). A view's score is the unseen area it would see: samples in its field
 //! of view and range, facing it, weighted by the camera's return at their incidence (full
 //! below 60°, none beyond 80°: the twin's grazing ramp), and not hidden behind an occupied
-//! voxel of another object or obstacle (the hull's faces hide its own back).
+//! voxel of another object or obstacle (the hull's faces hide its own back). A sample a
+//! taken view was placed to see in full and did not is scored no more
+//! ([`HullSurface::without_missed`]).
 
 use nalgebra::{Point3, Vector3};
 
@@ -265,7 +267,7 @@ impl HullSurface {
     /// (the hull's face over a lying mallet head's undercut, 1–2 cm above the table) or a
     /// surface the camera does not resolve; scored on, it drew view after view to the same
     /// side (paper-env1's mallet at seed 2: 11 cm² of it on one side, three views there,
-    /// 90 % of its ceiling). The hull's missed voxels, as [`MissedVoxels`] are eq. (4)'s.
+    /// 90 % of its ceiling). The hull's counterpart of eq. (4)'s [`MissedVoxels`].
     ///
     /// [`MissedVoxels`]: super::MissedVoxels
     pub fn without_missed(
