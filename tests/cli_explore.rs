@@ -134,6 +134,20 @@ fn hybrid_explores_the_object_and_beats_the_laser_alone() {
         views.len(),
         "cluster + views"
     );
+    // Every point the cluster and the views kept, none subsampled away (the registration's
+    // input is subsampled; the model is not).
+    let kept: u64 = o["cluster_points"].as_u64().unwrap()
+        + views
+            .iter()
+            .map(|v| v["object_points"].as_u64().unwrap())
+            .sum::<u64>();
+    assert_eq!(model.len() as u64, kept);
+    assert!(
+        views
+            .iter()
+            .any(|v| v["object_points"].as_u64().unwrap() > 2000),
+        "a view above the registration's subsample"
+    );
     for k in 0..=views.len() {
         assert!(
             out.join(format!("objects/horse/views/view_{k:02}.ply"))

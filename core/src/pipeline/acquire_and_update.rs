@@ -253,7 +253,12 @@ pub(super) fn object_points(
     known: &[OrientedBox],
     on_smoothed: bool,
 ) -> (PointCloud, Option<PointCloud>) {
-    // The same pixels, in the same order: smoothing keeps every valid depth valid.
+    // The same pixels, in the same order: smoothing keeps every valid depth valid. A
+    // smoothed cloud of another length (none is made) would be left out, not misread.
+    debug_assert!(
+        smoothed.is_none_or(|s| s.len() == frame.len()),
+        "a smoothed cloud of another length than its frame's"
+    );
     let smoothed = smoothed.filter(|s| s.len() == frame.len());
     let cut = |c: &PointCloud, keep: &dyn Fn(usize) -> bool| c.retain_indices(keep);
     let inside = |i: usize| region.contains(&frame.points[i]);

@@ -4,7 +4,7 @@
 //! sequential ICP beside it, from the same input; and again, MAP only, with every view's
 //! prior centred on the rig's self-calibration.
 
-use super::{ExploreConfig, ObjectExploration, ObjectRegistration};
+use super::{AcquiredView, ExploreConfig, ObjectExploration, ObjectRegistration};
 use crate::calibration::{HandEyeEstimate, PoseUncertainty};
 use crate::cloud::PointCloud;
 use crate::kinematics::Robot;
@@ -32,23 +32,35 @@ fn registration_views(
             .as_ref()
             .filter(|c| smoothed && !c.is_empty())
             .unwrap_or(&v.cloud);
-        let mut cloud = source.thinned(points);
-        // Every point of a frame was seen from the reported sensor position.
-        let o = nalgebra::Point3::from(v.sensor_pose.translation.vector);
-        cloud.origins = Some(vec![o; cloud.len()]);
-        cloud
+        with_origin(source.thinned(points), v)
     }));
     views
 }
 
-/// The model's points, one cloud per registration view: the cluster and the exploration's
-/// views as acquired; the calibration's views (after them) empty, since they serve the
-/// calibration's evidence on their poses, not the model.
-fn model_points(object: &ObjectExploration, config: &ExploreConfig) -> Vec<PointCloud> {
-    let mut points = registration_views(object, &object.cluster, config, false);
-    for cloud in points.iter_mut().skip(1 + object.explored_views().count()) {
-        *cloud = PointCloud::default();
-    }
+/// `cloud` with the reported sensor position of `view` as every point's origin: every
+/// point of a frame was seen from there.
+fn with_origin(mut cloud: PointCloud, view: &AcquiredView) -> PointCloud {
+    let o = nalgebra::Point3::from(view.sensor_pose.translation.vector);
+    cloud.origins = Some(vec![o; cloud.len()]);
+    cloud
+}
+
+/// The model's points, one cloud per registration view: the cluster and every point of
+/// the exploration's views as acquired; the calibration's views (after them) empty, since
+/// they serve the calibration's evidence on their poses, not the model. Not subsampled as
+/// the registration's input is: a subsample by index keeps a surface's points in
+/// proportion to its pixels, and so drops most of what a view saw at a grazing angle,
+/// sparse there, that no other view saw.
+fn model_points(object: &ObjectExploration) -> Vec<PointCloud> {
+    let explored = object.explored_views().count();
+    let mut points = vec![object.cluster.clone()];
+    points.extend(object.registered_views().enumerate().map(|(k, v)| {
+        if k < explored {
+            with_origin(v.cloud.clone(), v)
+        } else {
+            PointCloud::default()
+        }
+    }));
     points
 }
 
@@ -151,7 +163,7 @@ pub(super) fn register_object(
         icp_accepted: accepted(&icp),
         // The model's points: the cluster and the exploration's views as acquired (the
         // registration's reference and smoothed views stand for them).
-        points: model_points(object, config),
+        points: model_points(object),
         views,
         map,
         gpa,

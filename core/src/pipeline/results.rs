@@ -204,9 +204,9 @@ pub struct ObjectRegistration {
     /// The views as registered (subsampled, world frame through the reported poses; the
     /// camera views' points smoothed where the registration smooths its input).
     pub views: Vec<PointCloud>,
-    /// The views' points as acquired, the model's: `views` where the registration does not
-    /// smooth its input, else the same views' unsmoothed points (subsampled alike), moved
-    /// by the same poses.
+    /// The views' points as acquired, the model's, one cloud per view of `views`: every
+    /// point of the cluster and of each exploration view (not subsampled), the
+    /// calibration's views empty; moved by the same poses as `views`.
     pub points: Vec<PointCloud>,
     /// What the MAP registration was told of each view: its noise and prior.
     pub models: Vec<crate::registration::ViewModel>,
