@@ -18,7 +18,8 @@ pub struct Registration {
     /// Stop when the mean squared distance to the centroids changes by less than this
     /// fraction between iterations. Default: nbv-core's, 1e-6.
     pub tolerance: f64,
-    /// Points per view after undersampling. Default 2000 (paper).
+    /// Points per view the registration reads, subsampled by index (the model keeps every
+    /// point of its views). Default 2000 (paper).
     pub points_per_view: u32,
     /// Largest correction (degrees) a registration may apply to a view's reported pose:
     /// the robot's kinematics bound the pose error, so a larger turn (a slide along a
