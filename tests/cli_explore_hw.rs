@@ -104,24 +104,36 @@ fn the_real_drivers_explore_paper_env1_like_the_twin() {
             );
         }
     }
-    // The models went through the wire: every explored object's model holds as many
-    // points as the twin's, within a tenth (the same views, frames not bit-identical).
+    // The models went through the wire: each backend's model holds every point its
+    // cluster and views kept (the report's counts), and the drivers' models as many as
+    // the twin's within a third (measured: bottle-a 10264 against 12601, its views not
+    // the twin's; a backend that lost a view of three would fall further).
     for name in &hw_objects {
-        let points = |backend: &str| {
+        let points = |backend: &str, report: &Value| {
             let model = dir
                 .path()
                 .join(backend)
                 .join("objects")
                 .join(name)
                 .join("model.ply");
-            nbv_core::cloud::io::read_cloud(&model)
+            let len = nbv_core::cloud::io::read_cloud(&model)
                 .unwrap()
                 .points
-                .len() as f64
+                .len() as u64;
+            let o = object(report, name);
+            let kept = o["cluster_points"].as_u64().unwrap()
+                + o["views"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|v| v["object_points"].as_u64().unwrap())
+                    .sum::<u64>();
+            assert_eq!(len, kept, "{name} ({backend}): the model against its views");
+            len as f64
         };
-        let (h, s) = (points("hw"), points("sim"));
+        let (h, s) = (points("hw", &hw), points("sim", &sim));
         assert!(
-            (h - s).abs() <= 0.1 * s && s > 1000.0,
+            (h - s).abs() <= s / 3.0 && s > 1000.0,
             "{name}: {h} points through the drivers, {s} in the twin"
         );
     }
