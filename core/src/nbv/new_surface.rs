@@ -251,8 +251,6 @@ mod tests {
     fn a_surface_seen_again_through_the_range_noise_adds_nothing_once_smoothed() {
         use crate::math::Pose;
         use crate::rig::{DepthCameraSpec, DepthFrame, depth_frame_to_cloud, smooth_frame};
-        use rand::SeedableRng;
-        use rand_distr::{Distribution, Normal};
         // The 15 × 10 cm top of a box, which the laser saw, 0.45 m below the camera.
         let model = patch(-0.075, 0.15, 0.1, 0.45)
             .iter()
@@ -260,29 +258,11 @@ mod tests {
             .collect::<Vec<_>>();
         // The camera sees it again, through a burst of eight frames' range noise.
         let spec = DepthCameraSpec::ipa1110();
-        let sigma = |z: f64| 0.04 * z / 8f64.sqrt();
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
-        let unit = Normal::new(0.0, 1.0).unwrap();
-        let depth: Vec<f32> = (0..spec.width * spec.height)
-            .map(|i| {
-                let ray = spec.pixel_ray(i % spec.width, i / spec.width);
-                let (x, y) = (0.45 * ray.x, 0.45 * ray.y);
-                let on_top = x.abs() < 0.075 && y.abs() < 0.05;
-                let n: f64 = unit.sample(&mut rng);
-                if on_top {
-                    (0.45 + sigma(0.45) * n) as f32
-                } else {
-                    f32::NAN
-                }
-            })
-            .collect();
-        let frame = DepthFrame {
-            time: 0.0,
-            width: spec.width,
-            height: spec.height,
-            depth,
-            truth: None,
-        };
+        let sigma = DepthFrame::burst_sigma;
+        let frame = DepthFrame::averaged_burst(&spec, 3, |ray| {
+            let (x, y) = (0.45 * ray.x, 0.45 * ray.y);
+            (x.abs() < 0.075 && y.abs() < 0.05).then_some(0.45)
+        });
         let points = |f: &DepthFrame| {
             depth_frame_to_cloud(f, &spec, &Pose::identity())
                 .unwrap()

@@ -392,22 +392,13 @@ mod tests {
     /// smoothed for the registration; the table's plane (its normal towards the camera)
     /// and the pipeline's filter.
     fn blade_on_the_table() -> (PointCloud, PointCloud, PlaneFit, TableFilter) {
-        use rand::SeedableRng;
-        use rand_distr::{Distribution, Normal};
         let spec = DepthCameraSpec::ipa1110();
-        let sigma = |z: f64| 0.04 * z / 8f64.sqrt();
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
-        let unit = Normal::new(0.0, 1.0).unwrap();
-        let depth: Vec<f32> = (0..spec.width * spec.height)
-            .map(|i| {
-                let ray = spec.pixel_ray(i % spec.width, i / spec.width);
-                let top = 0.395;
-                let on_blade = (top * ray.x).abs() < 0.05 && (top * ray.y).abs() < 0.0375;
-                let z = if on_blade { top } else { 0.4 };
-                (z + sigma(z) * unit.sample(&mut rng)) as f32
-            })
-            .collect();
-        let frame = frame_of(&spec, depth);
+        let sigma = DepthFrame::burst_sigma;
+        let frame = DepthFrame::averaged_burst(&spec, 5, |ray| {
+            let top = 0.395;
+            let on_blade = (top * ray.x).abs() < 0.05 && (top * ray.y).abs() < 0.0375;
+            Some(if on_blade { top } else { 0.4 })
+        });
         let smoothed = smooth_frame(frame.clone(), REGISTRATION_SMOOTHING, sigma);
         let cloud = |f: &DepthFrame| depth_frame_to_cloud(f, &spec, &Pose::identity()).unwrap();
         let table = PlaneFit {
