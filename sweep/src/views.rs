@@ -168,7 +168,6 @@ pub fn list_views(scene: &nbv_scenes::Scene, options: &ViewsOptions) -> Result<V
                 sides: &nbv_core::nbv::SurfaceSides::of_cloud(map.reduced.geometry(), &cloud),
                 missed: &nbv_core::nbv::MissedVoxels::default(),
                 points: &cloud.points,
-                free_space: &[],
                 views: &[],
                 stalled: false,
                 hull: nbv.params.hull_score.applies(false),

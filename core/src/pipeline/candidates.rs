@@ -13,7 +13,6 @@ use crate::nbv::{
 };
 use crate::occupancy::{GridGeometry, OccupancyGrid, ReducedMap, VoxelState};
 use crate::planning::{CollisionWorld, MotionPlanner};
-use crate::registration::DepthImageFreeSpace;
 use nalgebra::Point3;
 
 /// The viewpoints to try next, and the planner to reach them with.
@@ -93,8 +92,9 @@ pub fn view_candidates(
             .then(|| HullSurface::new(surface.points, region.table, &map.grid))
             .flatten()
             .map(|h| {
-                h.without_seen_through(|q| surface.free_space.iter().any(|f| f.contains(q)))
-                    .without_missed(surface.views, &nbv.camera, scored_on)
+                let poses: Vec<Pose> = surface.views.iter().map(|v| v.sensor_pose).collect();
+                h.without_seen_through(|q| surface.views.iter().any(|v| v.free_space.contains(q)))
+                    .without_missed(&poses, &nbv.camera, scored_on)
             });
         hull_area = hull.as_ref().map(HullSurface::total_area);
         let own = |v: usize| in_region(geometry, surface.region, v);
@@ -131,10 +131,9 @@ pub struct ObjectSurface<'a> {
     pub missed: &'a MissedVoxels,
     /// Its points so far (world frame): the phase-1 cluster and the views.
     pub points: &'a [Point3<f64>],
-    /// Where its views saw empty space.
-    pub free_space: &'a [DepthImageFreeSpace],
-    /// Where its views stood (the sensor's reported poses).
-    pub views: &'a [Pose],
+    /// Its views so far: where each saw empty space and where it stood (the sensor's
+    /// reported pose), which the hull score reads.
+    pub views: &'a [AcquiredView],
     /// A view of the object added less than the new-surface share: by
     /// [`NbvParams::hull_score`](crate::nbv::NbvParams::hull_score), the unseen hull
     /// ([`HullSurface`]) scores the candidates, and in a hull mode they come from the

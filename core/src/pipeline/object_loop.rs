@@ -209,22 +209,17 @@ impl<'a> ObjectLoop<'a> {
                 .iter()
                 .any(|v| v.new_surface < ep.config.stop.new_surface);
             let hull = self.nbv.params.hull_score.applies(stalled) && self.handed_over.is_none();
-            // What the hull score reads: everything seen of the object, where its views
-            // saw through, and where they stood.
-            let (points, free_space, poses): (Vec<_>, Vec<_>, Vec<_>) = if hull {
-                (
-                    object
-                        .cluster
-                        .points
-                        .iter()
-                        .chain(object.views.iter().flat_map(|v| &v.cloud.points))
-                        .copied()
-                        .collect(),
-                    object.views.iter().map(|v| v.free_space.clone()).collect(),
-                    object.views.iter().map(|v| v.sensor_pose).collect(),
-                )
+            // What the hull score reads: everything seen of the object.
+            let points: Vec<_> = if hull {
+                object
+                    .cluster
+                    .points
+                    .iter()
+                    .chain(object.views.iter().flat_map(|v| &v.cloud.points))
+                    .copied()
+                    .collect()
             } else {
-                (Vec::new(), Vec::new(), Vec::new())
+                Vec::new()
             };
             // The arm's joints only when the movement cost reads them (a device round trip).
             let start = if self.nbv.params.cost_weight > 0.0 {
@@ -245,8 +240,7 @@ impl<'a> ObjectLoop<'a> {
                     sides: &self.sides,
                     missed: &self.missed,
                     points: &points,
-                    free_space: &free_space,
-                    views: &poses,
+                    views: &object.views,
                     stalled,
                     hull,
                 }),
